@@ -1,0 +1,72 @@
+// Shared pieces of the command-line front end: model options, usage errors, atomic output.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "funnel/ensemble.hpp"
+#include "funnel/grid.hpp"
+#include "funnel/params.hpp"
+
+namespace funnel::cli {
+
+/// Bad input: reported as "funnel: error: <message>" with exit code 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The model options as given on the command line (text), keyed by parameter name.
+struct ModelOptions {
+  std::map<std::string, std::string> given;  ///< only the options the user set
+};
+
+/// Adds --theta --e --mu --beta0 --radius --gap --inertia --t-max --max-collisions to `app`.
+/// With `lists`, each also accepts a list "a,b,c" or a range "start:stop:step".
+void add_model_options(CLI::App& app, ModelOptions& options, bool lists);
+
+/// Parameters from single-valued options over the defaults; throws UsageError if invalid.
+Params to_params(const ModelOptions& options);
+
+/// Grid axes from list-valued options (and the parameters' defaults for the rest).
+std::vector<Axis> to_axes(const ModelOptions& options);
+
+/// Validates every point of a grid; throws UsageError naming the first invalid one.
+void validate_all(const std::vector<Params>& points);
+
+/// Parses a sample count (>= 1); throws UsageError.
+std::int64_t to_samples(const std::string& text);
+/// Parses "line" or "disk"; throws UsageError.
+ReleaseDist to_release_dist(const std::string& text);
+/// Parses a thread count (>= 1, or 0 for all cores); throws UsageError.
+int to_threads(const std::string& text);
+
+/// Adds the ensemble options (--samples --release-dist --threads) with their text targets.
+struct EnsembleText {
+  std::string samples = std::to_string(default_samples);
+  std::string release_dist = "line";
+  std::string threads = "0";
+};
+void add_ensemble_options(CLI::App& app, EnsembleText& text);
+EnsembleOptions to_ensemble_options(const EnsembleText& text);
+
+/// Writes `content` to `path` through a temporary file and a rename, so that no partial
+/// file is ever left; "-" or "" writes to standard output. Throws UsageError on failure.
+void write_output(const std::string& path, const std::string& content);
+
+/// Checks before any work that `path` can be written (its directory exists); throws UsageError.
+void check_writable(const std::string& path);
+
+/// Output format of a command.
+enum class Format { Json, Csv };
+/// Parses "json" or "csv"; throws UsageError.
+Format to_format(const std::string& text);
+
+/// Shortest text that reads back as the same double (17 significant digits at most).
+std::string number(double x);
+
+}  // namespace funnel::cli

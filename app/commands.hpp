@@ -1,0 +1,17 @@
+// The subcommands of the funnel command line.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace funnel::cli {
+
+/// Registers `funnel trajectory`: one trajectory, with its optional event log.
+void add_trajectory_command(CLI::App& app, const std::string& command_line);
+/// Registers `funnel ensemble`: statistics over release positions.
+void add_ensemble_command(CLI::App& app, const std::string& command_line);
+/// Registers `funnel sweep`: one ensemble per point of a parameter grid, to CSV.
+void add_sweep_command(CLI::App& app, const std::string& command_line);
+
+}  // namespace funnel::cli

@@ -1,0 +1,85 @@
+// One trajectory of the particle through the funnel, event by event (MODEL.md §3-7).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "funnel/flight.hpp"
+#include "funnel/geometry.hpp"
+#include "funnel/params.hpp"
+#include "funnel/walton.hpp"
+
+namespace funnel {
+
+/// How a trajectory ended (MODEL.md §6).
+enum class Status { Exited, Rest, Trapped };
+
+/// Lower-case names used in every output: "exited", "rest", "trapped".
+std::string_view to_string(Status status);
+/// "face", "edge", "contact_start", "contact_end", "exit".
+std::string_view to_string(EventKind kind);
+/// "left", "right".
+std::string_view to_string(Wall wall);
+/// "none", "sliding", "sticking", "rolling".
+std::string_view to_string(Regime regime);
+
+/// One entry of the optional event log (MODEL.md §7).
+struct Event {
+  double time = 0.0;          ///< time of the event, units sqrt(H/g)
+  EventKind kind = EventKind::Face;
+  std::optional<Wall> wall;   ///< wall of a collision or contact; none for the exit
+  Vec2 position;              ///< centre position at the event
+  Vec2 velocity_before;       ///< centre velocity just before
+  double omega_before = 0.0;  ///< spin just before
+  Vec2 velocity_after;        ///< centre velocity just after
+  double omega_after = 0.0;   ///< spin just after
+  double slip_before = 0.0;   ///< tangential velocity of the contact point before (collisions)
+  Regime regime = Regime::None;  ///< collision regime, or the contact's regime at start/end
+  double j_n = 0.0;           ///< normal impulse (for ContactEnd: integral of N dt)
+  double j_t = 0.0;           ///< tangential impulse along the wall tangent (ContactEnd: integral of F dt)
+  double energy_lost = 0.0;   ///< energy lost in this event (ContactEnd: over the whole contact)
+};
+
+/// Receives the events of a trajectory as they happen.
+class EventSink {
+ public:
+  virtual ~EventSink() = default;
+  /// Called once per event, in time order.
+  virtual void record(const Event& event) = 0;
+};
+
+/// An EventSink that keeps every event.
+class EventLog final : public EventSink {
+ public:
+  void record(const Event& event) override { events.push_back(event); }
+  std::vector<Event> events;  ///< the events in time order
+};
+
+/// Observables of one trajectory (MODEL.md §7).
+struct Trajectory {
+  Status status = Status::Trapped;
+  double duration = 0.0;            ///< time of the exit (or of the end of the run)
+  double impulse = 0.0;             ///< sum |J| over collisions + integral sqrt(N^2+F^2) dt over contacts
+  double normal_impulse = 0.0;      ///< the same with J_N and N only
+  double energy_loss = 0.0;         ///< E_0 - E_end from the states
+  double energy_loss_events = 0.0;  ///< sum of the losses of every event (bookkeeping check)
+  std::int64_t collisions = 0;      ///< all collisions, face and edge
+  std::int64_t edge_collisions = 0; ///< collisions with an edge (included in `collisions`)
+  std::int64_t contacts = 0;        ///< sustained contacts (collapses)
+  double contact_time = 0.0;        ///< total time in sustained contact
+  State final_state;                ///< state when the run ended
+};
+
+/// Runs one trajectory from any admissible initial state (units H = g = m = 1).
+Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink = nullptr);
+
+/// Runs one trajectory released at rest at x0 = fraction * L on the release line, fraction in (-1, 1).
+Trajectory simulate_release(const Params& params, const Geometry& g, double fraction, EventSink* sink = nullptr);
+
+/// Number of consecutive events without any advance of time after which a run is stopped as
+/// `trapped`: a guard against Zeno loops that no valid trajectory should ever reach.
+inline constexpr int max_stalled_events = 1000;
+
+}  // namespace funnel

@@ -1,0 +1,39 @@
+// Parameter grids for sweeps: value lists and ranges, and their Cartesian product.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "funnel/params.hpp"
+
+namespace funnel {
+
+/// Parses a strict finite decimal number (the whole text); nullopt otherwise.
+std::optional<double> parse_number(std::string_view text);
+
+/// Parses "v", "v1,v2,..." or an inclusive range "start:stop:step" (step > 0, stop >= start)
+/// into values; on failure returns nullopt and sets `error` to a reason.
+std::optional<std::vector<double>> parse_values(std::string_view text, std::string& error);
+
+/// Names of the parameters a sweep can vary, in the order of the grid's axes and CSV columns.
+const std::vector<std::string>& sweep_parameter_names();
+
+/// Sets the parameter called `name` (one of sweep_parameter_names()) to `value`.
+/// Returns false for an unknown name or a non-integral max-collisions.
+bool set_parameter(Params& params, std::string_view name, double value);
+
+/// Reads the parameter called `name` as a double.
+double get_parameter(const Params& params, std::string_view name);
+
+/// One axis of a grid: a parameter name and its values.
+struct Axis {
+  std::string name;
+  std::vector<double> values;
+};
+
+/// The Cartesian product of the axes over a base parameter set; the last axis varies fastest.
+std::vector<Params> expand_grid(const Params& base, const std::vector<Axis>& axes);
+
+}  // namespace funnel

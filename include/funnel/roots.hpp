@@ -1,0 +1,31 @@
+// Cancellation-free polynomial root finders used for event times (MODEL.md §3).
+#pragma once
+
+#include <array>
+#include <limits>
+
+namespace funnel {
+
+/// No root: an event that never happens.
+inline constexpr double never = std::numeric_limits<double>::infinity();
+
+/// Time at which a signed distance delta(t) = delta0 + p t - c t^2 / 2 (c > 0) next falls to 0
+/// from above: the particle reaching a centre line. delta0 >= 0 uses the roots of MODEL.md §3
+/// (exactly 2p/c when delta0 = 0); delta0 < 0 (behind the line) needs p > 0. `never` if none.
+double line_arrival_time(double delta0, double p, double c);
+
+/// Smallest positive root of a2 t^2 + a1 t + a0 = 0 (any signs), `never` if none.
+double first_positive_root(double a2, double a1, double a0);
+
+/// Real roots of the monic cubic t^3 + b t^2 + c t + d, ascending; returns their count (1..3).
+int cubic_real_roots(double b, double c, double d, std::array<double, 3>& roots);
+
+/// Value of the polynomial c[0] + c[1] t + ... + c[4] t^4.
+double eval_quartic(const std::array<double, 5>& c, double t);
+
+/// First t in (0, t_end] where the quartic f (leading coefficient > 0) crosses from f > 0 to
+/// f <= 0: the first approach of a circle. The interval is split at the real roots of f' into
+/// monotone pieces; the root is then bracketed and refined to full precision. `never` if none.
+double first_descending_root(const std::array<double, 5>& c, double t_end);
+
+}  // namespace funnel

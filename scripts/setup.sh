@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Installs the Debian packages funnel needs, if any is missing. Sourced by run.sh and test.sh.
+# Works as root or through sudo, non-interactively.
+set -euo pipefail
+
+FUNNEL_PACKAGES=(
+  build-essential cmake git pkg-config
+  libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev
+  libgtest-dev libbenchmark-dev
+)
+
+funnel_missing_packages() {
+  local pkg
+  for pkg in "$@"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || echo "$pkg"
+  done
+}
+
+funnel_install() {
+  local missing
+  missing=$(funnel_missing_packages "$@")
+  [ -z "$missing" ] && return 0
+  local sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null 2>&1; then
+      sudo="sudo -n"
+    else
+      echo "funnel setup: need root or sudo to install:" $missing >&2
+      return 1
+    fi
+  fi
+  echo "funnel setup: installing" $missing >&2
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  # shellcheck disable=SC2086
+  $sudo apt-get install -y -qq --no-install-recommends $missing >/dev/null
+}
+
+funnel_install "${FUNNEL_PACKAGES[@]}"
+
+# Configure and build in Release (the directory and the extra CMake options may be overridden).
+funnel_build() {
+  local dir=${1:-build}
+  shift || true
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+  cmake --build "$dir" -j "$(nproc)"
+}

@@ -1,0 +1,76 @@
+// Event detection for a free flight (MODEL.md §3).
+#include "funnel/flight.hpp"
+
+#include <array>
+#include <cmath>
+
+#include "funnel/roots.hpp"
+
+namespace funnel {
+
+double face_time(const Geometry& g, const State& s, Wall wall, const FlightStart& start) {
+  if (start.left_contact == wall) return never;  // tangent at C*: a zero-time hit otherwise (Zeno)
+  const Vec2 n = face_normal(g, wall);
+  const double p = dot(s.v, n);
+  // Right after a collision with this face the distance is exactly 0 and the return time 2p/cos.
+  const double delta0 = start.on_face == wall ? 0.0 : face_distance(g, wall, s.r);
+  const double t = line_arrival_time(delta0, p, g.cos_t);
+  if (t == never || g.closed) return t;
+  // A face contact needs the foot of the perpendicular on the wall: the centre above C*.
+  const double y = s.r.y + s.v.y * t - 0.5 * t * t;
+  return y >= g.y_face_end ? t : never;
+}
+
+double edge_time(const Geometry& g, const State& s, Wall wall, const FlightStart& start, double t_limit) {
+  if (g.closed || start.left_contact == wall) return never;
+  // The edge arc lies at or below C*; the height is concave in time, so a flight that is above
+  // C* at both ends of the window cannot touch it.
+  const double y_end = s.r.y + s.v.y * t_limit - 0.5 * t_limit * t_limit;
+  if (s.r.y > g.y_face_end && y_end > g.y_face_end) return never;
+  const Vec2 e = edge_point(g, wall);
+  const Vec2 d = s.r - e;
+  // |d + v t - (0, t^2/2)|^2 - a^2 as a quartic in t.
+  std::array<double, 5> c{};
+  c[0] = start.on_edge == wall ? 0.0 : dot(d, d) - g.radius * g.radius;
+  c[1] = 2.0 * dot(d, s.v);
+  c[2] = dot(s.v, s.v) - d.y;
+  c[3] = -s.v.y;
+  c[4] = 0.25;
+  const double t = first_descending_root(c, t_limit);
+  if (t == never) return never;
+  // Valid only on the edge side of C*: (r - C*) . down >= 0 with `down` the down-slope
+  // direction of the face. A first approach from the other side would come from behind the
+  // wall, which the particle cannot reach; a hit within rounding of C* is the same contact
+  // as the face's and is accepted.
+  const double ws = wall_sign(wall);
+  const Vec2 at = advance(s, t).r;
+  const Vec2 from_end{at.x - ws * g.x_face_end, at.y - g.y_face_end};
+  const double along = -ws * g.cos_t * from_end.x - g.sin_t * from_end.y;
+  return along >= -1e-9 * g.radius ? t : never;
+}
+
+double exit_time(const Geometry& g, const State& s) {
+  if (g.closed) return never;
+  const double h = std::fmax(s.r.y - g.y_bottom, 0.0);
+  const double v = s.v.y;
+  const double root = std::sqrt(v * v + 2.0 * h);
+  return v >= 0.0 ? v + root : 2.0 * h / (root - v);
+}
+
+NextEvent next_event(const Geometry& g, const State& s, const FlightStart& start) {
+  NextEvent ev;
+  ev.kind = EventKind::Exit;
+  ev.dt = exit_time(g, s);
+  for (const Wall wall : {Wall::Left, Wall::Right}) {
+    const double t = face_time(g, s, wall, start);
+    if (t < ev.dt) ev = {EventKind::Face, wall, t};
+  }
+  for (const Wall wall : {Wall::Left, Wall::Right}) {
+    // Edges are searched only up to the earliest other event.
+    const double t = edge_time(g, s, wall, start, ev.dt);
+    if (t < ev.dt) ev = {EventKind::Edge, wall, t};
+  }
+  return ev;
+}
+
+}  // namespace funnel

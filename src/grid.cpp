@@ -1,0 +1,135 @@
+// Value lists, ranges and Cartesian grids of parameters.
+#include "funnel/grid.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace funnel {
+
+std::optional<double> parse_number(std::string_view text) {
+  if (text.empty()) return std::nullopt;
+  if (text.front() == '+') text.remove_prefix(1);
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+}  // namespace
+
+std::optional<std::vector<double>> parse_values(std::string_view text, std::string& error) {
+  text = trim(text);
+  std::vector<double> values;
+  if (text.find(':') != std::string_view::npos) {
+    std::vector<std::string_view> parts;
+    std::size_t pos = 0;
+    for (;;) {
+      const std::size_t colon = text.find(':', pos);
+      parts.push_back(trim(text.substr(pos, colon == std::string_view::npos ? colon : colon - pos)));
+      if (colon == std::string_view::npos) break;
+      pos = colon + 1;
+    }
+    if (parts.size() != 3) {
+      error = "a range is start:stop:step";
+      return std::nullopt;
+    }
+    const auto start = parse_number(parts[0]);
+    const auto stop = parse_number(parts[1]);
+    const auto step = parse_number(parts[2]);
+    if (!start || !stop || !step) {
+      error = "a range is start:stop:step with three finite numbers";
+      return std::nullopt;
+    }
+    if (!(*step > 0.0) || *stop < *start) {
+      error = "a range start:stop:step needs step > 0 and stop >= start";
+      return std::nullopt;
+    }
+    // Count with a tolerance so that 5:85:0.5 includes 85; values as start + i*step (no drift).
+    const double span = (*stop - *start) / *step;
+    const double count = std::floor(span + 1e-9) + 1.0;
+    if (count > 1e7) {
+      error = "a range may have at most 10^7 values";
+      return std::nullopt;
+    }
+    for (int i = 0; i < static_cast<int>(count); ++i) values.push_back(*start + i * *step);
+    return values;
+  }
+  std::size_t pos = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string_view item = trim(text.substr(pos, comma == std::string_view::npos ? comma : comma - pos));
+    const auto v = parse_number(item);
+    if (!v) {
+      error = item.empty() ? "empty value in the list" : "'" + std::string(item) + "' is not a finite number";
+      return std::nullopt;
+    }
+    values.push_back(*v);
+    if (comma == std::string_view::npos) break;
+    pos = comma + 1;
+  }
+  return values;
+}
+
+const std::vector<std::string>& sweep_parameter_names() {
+  static const std::vector<std::string> names{"theta", "e", "mu", "beta0", "radius",
+                                              "gap", "inertia", "t-max", "max-collisions"};
+  return names;
+}
+
+bool set_parameter(Params& params, std::string_view name, double value) {
+  if (name == "theta") params.theta = value;
+  else if (name == "e") params.e = value;
+  else if (name == "mu") params.mu = value;
+  else if (name == "beta0") params.beta0 = value;
+  else if (name == "radius") params.radius = value;
+  else if (name == "gap") params.gap = value;
+  else if (name == "inertia") params.inertia = value;
+  else if (name == "t-max") params.t_max = value;
+  else if (name == "max-collisions") {
+    if (!(value == std::floor(value)) || !(std::fabs(value) < 9.0e18)) return false;
+    params.max_collisions = static_cast<std::int64_t>(value);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+double get_parameter(const Params& params, std::string_view name) {
+  if (name == "theta") return params.theta;
+  if (name == "e") return params.e;
+  if (name == "mu") return params.mu;
+  if (name == "beta0") return params.beta0;
+  if (name == "radius") return params.radius;
+  if (name == "gap") return params.gap;
+  if (name == "inertia") return params.inertia;
+  if (name == "t-max") return params.t_max;
+  if (name == "max-collisions") return static_cast<double>(params.max_collisions);
+  return std::nan("");
+}
+
+std::vector<Params> expand_grid(const Params& base, const std::vector<Axis>& axes) {
+  std::vector<Params> points{base};
+  for (const Axis& axis : axes) {
+    std::vector<Params> next;
+    next.reserve(points.size() * axis.values.size());
+    for (const Params& p : points) {
+      for (const double v : axis.values) {
+        Params q = p;
+        set_parameter(q, axis.name, v);
+        next.push_back(q);
+      }
+    }
+    points = std::move(next);
+  }
+  return points;
+}
+
+}  // namespace funnel

@@ -1,0 +1,148 @@
+// The command line as a user meets it: bad input exits 2 naming the parameter, and writes nothing.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(FUNNEL_BINARY) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("funnel_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
+  std::string read(const std::string& name) const {
+    std::ifstream in(path(name));
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  /// Only the files the test itself created are in the directory.
+  std::size_t file_count() const { return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), {})); }
+
+  fs::path dir_;
+};
+
+void expect_rejected(const Result& r, const std::string& name, const std::string& value) {
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(name), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(value), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, OutOfRangeNanInfAndNonNumbersNameTheParameterValueAndRange) {
+  const std::string base = "trajectory --release 0.3 --out " + path("t.json") + " ";
+  const Result theta = run(base + "--theta 95");
+  expect_rejected(theta, "theta", "95");
+  EXPECT_NE(theta.output.find("0 < theta < 90"), std::string::npos);
+  expect_rejected(run(base + "--e nan"), "e", "nan");
+  expect_rejected(run(base + "--mu inf"), "mu", "inf");
+  expect_rejected(run(base + "--gap abc"), "gap", "abc");
+  expect_rejected(run(base + "--gap 0.015"), "gap", "0.015");
+  expect_rejected(run(base + "--beta0 -2"), "beta0", "-2");
+  expect_rejected(run(base + "--inertia 0"), "inertia", "0");
+  expect_rejected(run(base + "--max-collisions 2.5"), "max-collisions", "2.5");
+  expect_rejected(run("trajectory --release 1.5 --out " + path("t.json")), "release", "1.5");
+  expect_rejected(run("ensemble --samples 0 --out " + path("t.json")), "samples", "0");
+  expect_rejected(run("ensemble --release-dist cube --out " + path("t.json")), "release-dist", "cube");
+  expect_rejected(run("ensemble --threads -3 --out " + path("t.json")), "threads", "-3");
+  EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, UnknownOptionIsRejected) {
+  const Result r = run("ensemble --bogus 3 --out " + path("e.json"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--bogus"), std::string::npos) << r.output;
+  EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, MalformedRangesAndBadConfigsLeaveExistingFilesUntouched) {
+  write("keep.csv", "precious\n");
+  const std::string out = " --out " + path("keep.csv");
+  expect_rejected(run("sweep --theta 5:85" + out), "theta", "5:85");
+  expect_rejected(run("sweep --theta 85:5:1" + out), "theta", "85:5:1");
+  expect_rejected(run("sweep --mu 0,x,1" + out), "mu", "0,x,1");
+  expect_rejected(run("sweep --theta 10:100:10" + out), "theta", "90");  // the first value out of range
+  expect_rejected(run("sweep --config " + path("missing.toml") + out), "config", "missing.toml");
+  write("bad.toml", "theta = [40, 95]\n");
+  expect_rejected(run("sweep --config " + path("bad.toml") + out), "theta", "95");
+  write("syntax.toml", "theta = [40, \n");
+  expect_rejected(run("sweep --config " + path("syntax.toml") + out), "config", "syntax.toml");
+  write("key.toml", "thetta = 40\n");
+  expect_rejected(run("sweep --config " + path("key.toml") + out), "thetta", "key.toml");
+  EXPECT_EQ(read("keep.csv"), "precious\n");
+  EXPECT_EQ(file_count(), 4u);  // keep.csv and the three configs: no temporary file left behind
+}
+
+TEST_F(Cli, HelpDocumentsEveryModelOptionWithItsRange) {
+  const Result r = run("ensemble --help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* opt : {"--theta", "--e", "--mu", "--beta0", "--radius", "--gap", "--inertia", "--t-max",
+                          "--max-collisions", "--samples", "--release-dist", "--threads"}) {
+    EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
+  }
+  EXPECT_NE(r.output.find("-1 <= beta0 <= 1"), std::string::npos);
+}
+
+TEST_F(Cli, TrajectoryJsonHasTheDocumentedKeys) {
+  const Result r = run("trajectory --theta 50 --e 0.9 --release -0.4 --events --out " + path("t.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string json = read("t.json");
+  for (const char* key : {"\"params\"", "\"status\"", "\"duration\"", "\"impulse\"", "\"normal_impulse\"",
+                          "\"energy_loss\"", "\"collisions\"", "\"edge_collisions\"", "\"contact_time\"",
+                          "\"events\"", "\"exited\"", "\"git_commit\""}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  }
+}
+
+TEST_F(Cli, SweepWritesOneRowPerGridPointAndConfigAndOptionsCombine) {
+  write("grid.toml", "theta = \"40:60:10\"\nmu = [0, 1]\nsamples = 50\n");
+  const Result r = run("sweep --config " + path("grid.toml") + " --e 0.9 --threads 2 --out " + path("s.csv"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string csv = read("s.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);  // header + 3 x 2 points
+  EXPECT_EQ(csv.rfind("theta,e,mu,beta0,radius,gap,inertia,t_max,max_collisions,release_dist,samples,duration_mean", 0), 0u);
+  EXPECT_NE(csv.find("\n60,0.9,1,0,0.01,0.04,0.4,1e+05,100000000,line,50,"), std::string::npos) << csv;
+}
+
+TEST_F(Cli, EnsembleCsvAndJsonAgree) {
+  ASSERT_EQ(run("ensemble --samples 40 --theta 55 --out " + path("e.json")).code, 0);
+  ASSERT_EQ(run("ensemble --samples 40 --theta 55 --format csv --out " + path("e.csv")).code, 0);
+  const std::string json = read("e.json");
+  const std::string csv = read("e.csv");
+  const auto pos = json.find("\"duration\"");
+  ASSERT_NE(pos, std::string::npos);
+  const auto mean_pos = json.find("\"mean\": ", pos) + 8;
+  const std::string mean = json.substr(mean_pos, json.find(',', mean_pos) - mean_pos);
+  EXPECT_NE(csv.find("," + mean + ","), std::string::npos) << mean << "\n" << csv;
+}
+
+}  // namespace

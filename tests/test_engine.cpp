@@ -1,0 +1,222 @@
+// Trajectory invariants: energy, mirror symmetry, book-keeping, termination, no stalls.
+#include "funnel/engine.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "funnel/roots.hpp"
+#include "test_util.hpp"
+
+namespace funnel {
+namespace {
+
+using test::near;
+
+Params params_with(double theta, double e, double mu, double beta0 = 0.0, double gap = 0.04) {
+  Params p = default_params();
+  p.theta = theta;
+  p.e = e;
+  p.mu = mu;
+  p.beta0 = beta0;
+  p.gap = gap;
+  return p;
+}
+
+/// Records the energy after every event.
+class EnergyTrace final : public EventSink {
+ public:
+  explicit EnergyTrace(const Params& p) : kappa_(p.inertia), a_(p.radius) {}
+  void record(const Event& e) override {
+    State s;
+    s.r = e.position;
+    s.v = e.velocity_after;
+    s.omega = e.omega_after;
+    max_dev = std::max(max_dev, std::fabs(energy(s, kappa_, a_) - reference));
+    ++count;
+  }
+  double reference = 0.0;
+  double max_dev = 0.0;
+  long count = 0;
+
+ private:
+  double kappa_, a_;
+};
+
+TEST(Engine, ElasticFrictionlessClosedFunnelConservesEnergy) {
+  for (const double theta : {30.0, 52.0, 75.0}) {
+    Params p = params_with(theta, 1.0, 0.0, 0.0, 0.0);
+    p.max_collisions = 20000;
+    const Geometry g = make_geometry(p);
+    EnergyTrace trace(p);
+    trace.reference = g.y_release;  // released at rest: E0 = y0
+    const Trajectory t = simulate_release(p, g, 0.37, &trace);
+    EXPECT_EQ(t.status, Status::Trapped);
+    EXPECT_EQ(t.collisions, 20000);
+    EXPECT_LT(trace.max_dev, 1e-10) << theta;
+    EXPECT_LT(std::fabs(t.energy_loss), 1e-10);
+  }
+}
+
+TEST(Engine, ElasticCollisionsWithFullTangentialRestitutionConserveEnergy) {
+  // e = 1, beta0 = 1 and sticking collisions (large mu): no dissipation at all, with spin.
+  Params p = params_with(50.0, 1.0, 1e6, 1.0, 0.0);
+  p.max_collisions = 10000;
+  const Geometry g = make_geometry(p);
+  EnergyTrace trace(p);
+  trace.reference = g.y_release;
+  simulate_release(p, g, -0.61, &trace);
+  EXPECT_LT(trace.max_dev, 1e-10);
+}
+
+TEST(Engine, MirrorReleaseGivesMirrorTrajectory) {
+  for (const double theta : {25.0, 44.0, 46.0, 60.0}) {
+    for (const double x0 : {0.13, 0.52, 0.91}) {
+      Params p = params_with(theta, 0.99, 0.4, 0.31);
+      p.max_collisions = 40;
+      const Geometry g = make_geometry(p);
+      EventLog a, b;
+      simulate_release(p, g, x0, &a);
+      simulate_release(p, g, -x0, &b);
+      ASSERT_EQ(a.events.size(), b.events.size());
+      for (std::size_t i = 0; i < a.events.size(); ++i) {
+        const Event& ea = a.events[i];
+        const Event& eb = b.events[i];
+        EXPECT_EQ(ea.kind, eb.kind);
+        if (ea.wall) EXPECT_NE(*ea.wall, *eb.wall);
+        EXPECT_TRUE(near(ea.time, eb.time, 1e-9));
+        EXPECT_TRUE(near(ea.position.x, -eb.position.x, 1e-9, 1e-12));
+        EXPECT_TRUE(near(ea.position.y, eb.position.y, 1e-9, 1e-12));
+        EXPECT_TRUE(near(ea.velocity_after.x, -eb.velocity_after.x, 1e-9, 1e-12));
+        EXPECT_TRUE(near(ea.velocity_after.y, eb.velocity_after.y, 1e-9, 1e-12));
+        EXPECT_TRUE(near(ea.omega_after, -eb.omega_after, 1e-9, 1e-9));
+      }
+    }
+  }
+}
+
+TEST(Engine, EnergyLossEqualsSumOfCollisionAndContactLosses) {
+  int with_contacts = 0;
+  for (const double theta : {15.0, 35.0, 50.0, 70.0}) {
+    for (const double e : {0.99, 0.7, 0.2}) {
+      for (const double x0 : {-0.8, -0.3, 0.45}) {
+        const Params p = params_with(theta, e, 0.5, 0.31);
+        const Geometry g = make_geometry(p);
+        EventLog log;
+        const Trajectory t = simulate_release(p, g, x0, &log);
+        double sum = 0.0;
+        for (const Event& ev : log.events) sum += ev.energy_lost;
+        EXPECT_EQ(t.status, Status::Exited);
+        EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-9)) << theta << " " << e << " " << x0;
+        EXPECT_TRUE(near(sum, t.energy_loss_events, 1e-12));
+        with_contacts += t.contacts > 0;
+      }
+    }
+  }
+  EXPECT_GT(with_contacts, 3);  // sustained contacts are part of the check
+}
+
+TEST(Engine, ShallowFunnelsStillEmptyThroughTheEdges) {
+  // For theta < 30 deg at the defaults the centre lines cross above the funnel bottom:
+  // the particle leaves between the edges, touching them.
+  long edge_hits = 0;
+  for (const double theta : {10.0, 20.0, 29.0}) {
+    const Params p = params_with(theta, 0.99, 1.0);
+    const Geometry g = make_geometry(p);
+    ASSERT_LT(g.y_bottom, 0.0);
+    for (int k = 0; k < 50; ++k) {
+      const Trajectory t = simulate_release(p, g, -0.98 + 0.04 * k);
+      EXPECT_EQ(t.status, Status::Exited) << theta << " " << k;
+      edge_hits += t.edge_collisions;
+    }
+  }
+  EXPECT_GT(edge_hits, 0);
+}
+
+TEST(Engine, ClosedInelasticFunnelEndsAtRest) {
+  for (const double theta : {20.0, 45.0, 70.0}) {
+    for (const double e : {0.9, 0.5, 0.0}) {
+      const Params p = params_with(theta, e, 0.5, 0.0, 0.0);
+      const Geometry g = make_geometry(p);
+      const Trajectory t = simulate_release(p, g, 0.4);
+      EXPECT_EQ(t.status, Status::Rest) << theta << " " << e;
+      EXPECT_TRUE(near(t.energy_loss, g.y_release, 1e-9));  // everything down to the vertex is lost
+      EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-9));
+    }
+  }
+}
+
+TEST(Engine, CollapseEndsInSustainedContactAndTheParticleExits) {
+  // e = 0: the first collision already collapses; the particle then slides or rolls to C*.
+  const Params p = params_with(40.0, 0.0, 1.0);
+  const Geometry g = make_geometry(p);
+  EventLog log;
+  const Trajectory t = simulate_release(p, g, 0.5, &log);
+  EXPECT_EQ(t.status, Status::Exited);
+  EXPECT_GE(t.contacts, 1);
+  EXPECT_GT(t.contact_time, 0.0);
+  bool start = false, end = false;
+  for (const Event& e : log.events) {
+    start |= e.kind == EventKind::ContactStart;
+    end |= e.kind == EventKind::ContactEnd;
+  }
+  EXPECT_TRUE(start && end);
+  // The contact ended at C*.
+  for (const Event& e : log.events) {
+    if (e.kind == EventKind::ContactEnd) EXPECT_EQ(e.position.y, g.y_face_end);
+  }
+}
+
+TEST(Engine, TimeAdvancesAtEveryEventNoZenoLoops) {
+  // Small e and grazing starts stress the collapse and C* hand-offs; no event may repeat at
+  // the same time thousands of times, and every run must end before the caps.
+  for (const double theta : {5.0, 30.0, 45.0, 60.0, 85.0}) {
+    for (const double e : {0.0, 0.3, 0.95}) {
+      for (const double mu : {0.0, 0.2, 5.0}) {
+        const Params p = params_with(theta, e, mu);
+        const Geometry g = make_geometry(p);
+        for (const double x0 : {-0.999, -0.5, 0.0, 0.77}) {
+          EventLog log;
+          const Trajectory t = simulate_release(p, g, x0, &log);
+          EXPECT_EQ(t.status, Status::Exited) << theta << " " << e << " " << mu << " " << x0;
+          int same = 0, worst = 0;
+          for (std::size_t i = 1; i < log.events.size(); ++i) {
+            same = log.events[i].time == log.events[i - 1].time ? same + 1 : 0;
+            worst = std::max(worst, same);
+          }
+          EXPECT_LT(worst, 3);
+        }
+      }
+    }
+  }
+}
+
+TEST(Engine, CapsEndTheRunAsTrapped) {
+  Params p = params_with(60.0, 1.0, 1.0, 0.0, 0.0);
+  p.t_max = 50.0;
+  const Geometry g = make_geometry(p);
+  const Trajectory t = simulate_release(p, g, 0.3);
+  EXPECT_EQ(t.status, Status::Trapped);
+  EXPECT_EQ(t.duration, 50.0);
+  p.t_max = 1e5;
+  p.max_collisions = 7;
+  const Trajectory u = simulate_release(p, g, 0.3);
+  EXPECT_EQ(u.status, Status::Trapped);
+  EXPECT_EQ(u.collisions, 7);
+}
+
+TEST(Engine, ReleasedParticleFallsFreelyToTheFirstWall) {
+  // First event: a fall from rest at (x0, y0) onto the right centre line, in closed form.
+  const Params p = params_with(60.0, 0.99, 1.0);
+  const Geometry g = make_geometry(p);
+  EventLog log;
+  simulate_release(p, g, 0.5, &log);
+  ASSERT_FALSE(log.events.empty());
+  const double x0 = 0.5 * g.half_width;
+  const double drop = g.y_release - x0 * g.tan_t;
+  EXPECT_TRUE(near(log.events[0].time, std::sqrt(2.0 * drop), 1e-15));
+  EXPECT_EQ(*log.events[0].wall, Wall::Right);
+}
+
+}  // namespace
+}  // namespace funnel

@@ -1,0 +1,97 @@
+// Parameter validation and grid parsing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "funnel/grid.hpp"
+#include "funnel/params.hpp"
+
+namespace funnel {
+namespace {
+
+TEST(Params, DefaultsAreValidAndMatchTheModel) {
+  const Params p = default_params();
+  EXPECT_FALSE(validate(p).has_value());
+  EXPECT_EQ(p.theta, 60.0);
+  EXPECT_EQ(p.e, 0.99);
+  EXPECT_EQ(p.mu, 1.0);
+  EXPECT_EQ(p.beta0, 0.0);
+  EXPECT_EQ(p.radius, 0.01);
+  EXPECT_EQ(p.gap, 0.04);
+  EXPECT_EQ(p.inertia, 0.4);
+}
+
+TEST(Params, EveryInvalidValueIsRejectedWithItsNameValueAndRange) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  struct Case {
+    const char* name;
+    double value;
+  };
+  const Case cases[] = {{"theta", 0.0},   {"theta", 90.0},  {"theta", nan},   {"e", -0.1},     {"e", 1.5},
+                        {"e", nan},       {"mu", -1.0},     {"mu", inf},      {"beta0", -1.5}, {"beta0", 2.0},
+                        {"radius", 0.0},  {"radius", 1.0},  {"radius", nan},  {"gap", 0.01},   {"gap", 0.02},
+                        {"gap", -1.0},    {"gap", inf},     {"inertia", 0.0}, {"inertia", nan}, {"t-max", 0.0},
+                        {"t-max", inf}};
+  for (const Case& c : cases) {
+    Params p = default_params();
+    ASSERT_TRUE(set_parameter(p, c.name, c.value));
+    const auto err = validate(p);
+    ASSERT_TRUE(err.has_value()) << c.name << " " << c.value;
+    EXPECT_EQ(err->name, c.name);
+    EXPECT_NE(err->message().find(c.name), std::string::npos);
+    EXPECT_NE(err->message().find("valid range"), std::string::npos);
+  }
+  Params p = default_params();
+  p.max_collisions = 0;
+  EXPECT_EQ(validate(p)->name, "max-collisions");
+}
+
+TEST(Params, ClosedFunnelTooSteepForTheParticleIsRejected) {
+  Params p = default_params();
+  p.gap = 0.0;
+  p.radius = 0.5;
+  p.theta = 70.0;  // release height 1 - a / cos(theta) < 0
+  EXPECT_EQ(validate(p)->name, "theta");
+  p.theta = 45.0;
+  EXPECT_FALSE(validate(p).has_value());
+}
+
+TEST(Grid, ParsesListsAndInclusiveRanges) {
+  std::string err;
+  auto v = parse_values("5:85:0.5", err);
+  ASSERT_TRUE(v.has_value());
+  EXPECT_EQ(v->size(), 161u);
+  EXPECT_EQ(v->front(), 5.0);
+  EXPECT_EQ(v->back(), 85.0);
+  EXPECT_EQ((*v)[1], 5.5);
+  v = parse_values("0, 1,5", err);
+  ASSERT_TRUE(v.has_value());
+  EXPECT_EQ(*v, (std::vector<double>{0.0, 1.0, 5.0}));
+  v = parse_values("-0.31:0.31:0.31", err);
+  ASSERT_TRUE(v.has_value());
+  EXPECT_EQ(v->size(), 3u);
+  v = parse_values("0.1:0.3:0.1", err);  // 0.3 is included despite rounding
+  EXPECT_EQ(v->size(), 3u);
+}
+
+TEST(Grid, RejectsMalformedValues) {
+  for (const char* bad : {"", "abc", "1,,2", "5:85", "5:85:0", "85:5:1", "1:2:x", "nan", "inf", "1e400", "1:2:3:4"}) {
+    std::string err;
+    EXPECT_FALSE(parse_values(bad, err).has_value()) << bad;
+    EXPECT_FALSE(err.empty()) << bad;
+  }
+}
+
+TEST(Grid, CartesianProductVariesTheLastAxisFastest) {
+  const auto points = expand_grid(default_params(), {{"theta", {40, 50}}, {"mu", {0, 1, 5}}});
+  ASSERT_EQ(points.size(), 6u);
+  EXPECT_EQ(points[0].theta, 40.0);
+  EXPECT_EQ(points[0].mu, 0.0);
+  EXPECT_EQ(points[2].mu, 5.0);
+  EXPECT_EQ(points[3].theta, 50.0);
+}
+
+}  // namespace
+}  // namespace funnel
