@@ -113,7 +113,7 @@ class Run {
   Collision apply_collision(EventKind kind, Wall wall, Vec2 n) {
     const Collision c = collide(state_, n, mat_);
     ++out_.collisions;
-    out_.impulse += std::hypot(c.j_n, c.j_t);
+    out_.impulse += std::sqrt(c.j_n * c.j_n + c.j_t * c.j_t);
     out_.normal_impulse += c.j_n;
     out_.energy_loss_events += c.energy_lost;
     if (sink_ != nullptr) {

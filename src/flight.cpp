@@ -58,13 +58,17 @@ double exit_time(const Geometry& g, const State& s) {
 }
 
 NextEvent next_event(const Geometry& g, const State& s, const FlightStart& start) {
-  NextEvent ev;
-  ev.kind = EventKind::Exit;
-  ev.dt = exit_time(g, s);
+  NextEvent ev{EventKind::Face, Wall::Left, never};
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     const double t = face_time(g, s, wall, start);
     if (t < ev.dt) ev = {EventKind::Face, wall, t};
   }
+  // Fast path: a face contact is valid only at or above C*, and the height is concave in time,
+  // so a flight that starts above C* stays above it until that contact: no edge can be touched
+  // and the exit level (below C*) cannot be crossed first.
+  if (ev.dt != never && (g.closed || s.r.y > g.y_face_end)) return ev;
+  const double t_exit = exit_time(g, s);
+  if (t_exit <= ev.dt) ev = {EventKind::Exit, Wall::Left, t_exit};
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     // Edges are searched only up to the earliest other event.
     const double t = edge_time(g, s, wall, start, ev.dt);
