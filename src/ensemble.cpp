@@ -85,12 +85,24 @@ EnsembleResult to_result(const BlockStats& s, std::int64_t samples) {
   return r;
 }
 
+/// The trajectory of the mirror-image release: same observables, mirrored final state.
+Trajectory mirrored(Trajectory t) {
+  t.final_state.r.x = -t.final_state.r.x;
+  t.final_state.v.x = -t.final_state.v.x;
+  t.final_state.omega = -t.final_state.omega;
+  return t;
+}
+
 }  // namespace
 
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
                                       const Progress& progress) {
   const std::int64_t n = options.samples;
-  const std::int64_t blocks_per_point = (n + block_size - 1) / block_size;
+  // The engine is exactly mirror symmetric and the line distribution's samples k and N-1-k
+  // are exact mirror images, so only the first half (and the middle one) is simulated.
+  const bool mirror = options.dist == ReleaseDist::Line;
+  const std::int64_t n_unique = mirror ? (n + 1) / 2 : n;
+  const std::int64_t blocks_per_point = (n_unique + block_size - 1) / block_size;
   const std::int64_t n_points = static_cast<std::int64_t>(points.size());
   const std::int64_t n_tasks = n_points * blocks_per_point;
 
@@ -109,16 +121,20 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
   for (std::int64_t task = 0; task < n_tasks; ++task) {
     const std::int64_t point = task / blocks_per_point;
     const std::int64_t first = (task % blocks_per_point) * block_size;
-    const std::int64_t last = std::min(first + block_size, n);
+    const std::int64_t last = std::min(first + block_size, n_unique);
     const Params& params = points[static_cast<std::size_t>(point)];
     const Geometry& g = geometries[static_cast<std::size_t>(point)];
     BlockStats& stats = blocks[static_cast<std::size_t>(task)];
     for (std::int64_t k = first; k < last; ++k) {
       const double fraction = release_fraction(options.dist, k, n);
       const Trajectory t = simulate_release(params, g, fraction);
+      const std::int64_t partner = mirror ? n - 1 - k : k;
       stats.add(t);
+      if (partner != k) stats.add(t);
       if (options.keep_samples) {
-        results[static_cast<std::size_t>(point)].per_sample[static_cast<std::size_t>(k)] = {fraction, t};
+        auto& kept = results[static_cast<std::size_t>(point)].per_sample;
+        kept[static_cast<std::size_t>(k)] = {fraction, t};
+        if (partner != k) kept[static_cast<std::size_t>(partner)] = {-fraction, mirrored(t)};
       }
     }
     if (progress) {

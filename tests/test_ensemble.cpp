@@ -1,5 +1,6 @@
 // Ensembles: release distributions, statistics, determinism and the paper's headline result.
 #include "funnel/ensemble.hpp"
+#include "funnel/geometry.hpp"
 
 #include <gtest/gtest.h>
 
@@ -89,18 +90,34 @@ TEST(Ensemble, SweepEqualsIndependentEnsembles) {
   }
 }
 
-TEST(Ensemble, PerSampleOutputsMatchTheSummary) {
-  Params p = default_params();
-  const EnsembleOptions opt{200, ReleaseDist::Line, 2, true};
-  const EnsembleResult r = run_ensemble(p, opt);
-  ASSERT_EQ(r.per_sample.size(), 200u);
-  double sum = 0.0;
-  for (const Sample& s : r.per_sample) sum += s.trajectory.duration;
-  EXPECT_TRUE(near(sum / 200.0, r.duration.mean, 1e-12));
-  EXPECT_EQ(r.exited + r.rest + r.trapped, 200);
-  // Mirror symmetry of the line distribution: sample k and N-1-k are mirror trajectories.
-  for (int k = 0; k < 100; ++k) {
-    EXPECT_TRUE(near(r.per_sample[k].trajectory.duration, r.per_sample[199 - k].trajectory.duration, 1e-9));
+TEST(Ensemble, MirrorHalvingGivesExactlyTheDirectSimulationOfEverySample) {
+  // Line ensembles simulate x0 <= 0 only; every sample must still equal its direct simulation
+  // bit for bit, which holds because the engine is exactly mirror symmetric.
+  for (const double theta : {25.0, 46.0, 70.0}) {
+    for (const std::int64_t n : {199, 200}) {
+      Params p = default_params();
+      p.theta = theta;
+      p.beta0 = 0.31;
+      const Geometry g = make_geometry(p);
+      const EnsembleOptions opt{n, ReleaseDist::Line, 2, true};
+      const EnsembleResult r = run_ensemble(p, opt);
+      ASSERT_EQ(r.per_sample.size(), static_cast<std::size_t>(n));
+      double sum = 0.0;
+      for (std::int64_t k = 0; k < n; ++k) {
+        const double f = release_fraction(ReleaseDist::Line, k, n);
+        const Trajectory direct = simulate_release(p, g, f);
+        const Sample& s = r.per_sample[static_cast<std::size_t>(k)];
+        EXPECT_EQ(s.fraction, f);
+        EXPECT_TRUE(same_bits(s.trajectory.duration, direct.duration)) << theta << " " << k;
+        EXPECT_TRUE(same_bits(s.trajectory.impulse, direct.impulse)) << theta << " " << k;
+        EXPECT_TRUE(same_bits(s.trajectory.energy_loss, direct.energy_loss)) << theta << " " << k;
+        EXPECT_EQ(s.trajectory.collisions, direct.collisions);
+        EXPECT_TRUE(same_bits(s.trajectory.final_state.r.x, direct.final_state.r.x));
+        sum += direct.duration;
+      }
+      EXPECT_TRUE(near(sum / static_cast<double>(n), r.duration.mean, 1e-13));
+      EXPECT_EQ(r.exited + r.rest + r.trapped, n);
+    }
   }
 }
 

@@ -53,7 +53,9 @@ struct EnsembleResult {
 /// Called with (finished work units, total work units); from one thread at a time.
 using Progress = std::function<void(std::int64_t, std::int64_t)>;
 
-/// Runs the ensemble of one parameter set. Bit-identical for any thread count.
+/// Runs the ensemble of one parameter set. Bit-identical for any thread count. For the line
+/// distribution only the releases x0 <= 0 are simulated: the engine is exactly mirror
+/// symmetric, so each result also stands for its mirror image.
 EnsembleResult run_ensemble(const Params& params, const EnsembleOptions& options, const Progress& progress = {});
 
 /// Runs one ensemble per parameter set, all in one parallel pool; results in input order.
