@@ -13,5 +13,7 @@ void add_trajectory_command(CLI::App& app, const std::string& command_line);
 void add_ensemble_command(CLI::App& app, const std::string& command_line);
 /// Registers `funnel sweep`: one ensemble per point of a parameter grid, to CSV.
 void add_sweep_command(CLI::App& app, const std::string& command_line);
+/// Registers `funnel closed`: long-time states of a closed funnel.
+void add_closed_command(CLI::App& app, const std::string& command_line);
 
 }  // namespace funnel::cli

@@ -92,6 +92,11 @@ class Run {
           break;
       }
       if (done_) return;
+      if (sink_ != nullptr && sink_->finished()) {
+        out_.stopped = true;
+        end(Status::Trapped, time_);
+        return;
+      }
       if (out_.collisions >= params_.max_collisions) {
         end(Status::Trapped, time_);
         return;

@@ -48,6 +48,8 @@ class EventSink {
   virtual ~EventSink() = default;
   /// Called once per event, in time order.
   virtual void record(const Event& event) = 0;
+  /// Asked after every collision: true ends the run there (e.g. once an orbit is recognised).
+  virtual bool finished() const { return false; }
 };
 
 /// An EventSink that keeps every event.
@@ -69,6 +71,7 @@ struct Trajectory {
   std::int64_t edge_collisions = 0; ///< collisions with an edge (included in `collisions`)
   std::int64_t contacts = 0;        ///< sustained contacts (collapses)
   double contact_time = 0.0;        ///< total time in sustained contact
+  bool stopped = false;             ///< ended early by EventSink::finished() (status Trapped)
   State final_state;                ///< state when the run ended
 };
 

@@ -1,0 +1,116 @@
+// `funnel closed`: long-time states of a closed funnel (the paper's Figs. 11 and 12).
+#include <cmath>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "funnel/closed.hpp"
+#include "funnel/geometry.hpp"
+#include "output.hpp"
+
+namespace funnel::cli {
+
+namespace {
+
+struct ClosedCommand {
+  ModelOptions model;
+  EnsembleText ens;
+  std::string max_time = "1e4";
+  std::string max_coll = "1e7";
+  std::string window = "20";
+  std::string slip_tol = "1e-6";
+  std::string height_tol = "1e-6";
+  std::string format = "json";
+  std::string out = "-";
+  std::string command_line;
+
+  static double positive(const std::string& name, const std::string& text, const std::string& range) {
+    const auto v = parse_number(text);
+    if (!v || !(*v > 0.0)) throw UsageError("invalid " + name + " = '" + text + "': valid range is " + range);
+    return *v;
+  }
+
+  void run() const {
+    ModelOptions m = model;
+    if (const auto it = m.given.find("gap"); it != m.given.end() && parse_number(it->second) != 0.0) {
+      throw UsageError("invalid gap = '" + it->second + "': funnel closed needs gap = 0 (the default here)");
+    }
+    m.given["gap"] = "0";
+    const Params params = to_params(m);
+    const EnsembleOptions ensemble = to_ensemble_options(ens);
+    ClosedOptions opt;
+    opt.max_time = positive("max-time", max_time, "max-time > 0");
+    const double mc = positive("max-collisions", max_coll, "max-collisions >= 1 (an integer)");
+    if (mc != std::floor(mc) || mc > 9e18) throw UsageError("invalid max-collisions = '" + max_coll + "': valid range is an integer >= 1");
+    opt.max_collisions = static_cast<std::int64_t>(mc);
+    const double w = positive("window", window, "an integer 1 <= window <= 10^6");
+    if (w != std::floor(w) || w > 1e6) throw UsageError("invalid window = '" + window + "': valid range is an integer 1 <= window <= 10^6");
+    opt.window = static_cast<int>(w);
+    opt.slip_tol = positive("slip-tol", slip_tol, "slip-tol > 0");
+    opt.height_tol = positive("height-tol", height_tol, "height-tol > 0");
+    const Format fmt = to_format(format);
+    check_writable(out);
+
+    const ClosedResult r = run_closed(params, ensemble, opt);
+    const double half_width = make_geometry(params).half_width;
+    std::string text;
+    if (fmt == Format::Json) {
+      nlohmann::ordered_json j;
+      j["params"] = params_json(params);
+      j["release_dist"] = to_string(ensemble.dist);
+      j["samples"] = ensemble.samples;
+      j["options"] = {{"max_time", opt.max_time}, {"max_collisions", opt.max_collisions}, {"window", opt.window},
+                      {"slip_tol", opt.slip_tol}, {"height_tol", opt.height_tol}};
+      j["periodic_fraction"] = r.periodic_fraction;
+      j["state_counts"] = {{"periodic", r.periodic}, {"rest", r.rest}, {"undecided", r.undecided}};
+      nlohmann::ordered_json per;
+      for (const char* key : {"release", "state", "x_last_over_L", "x_prev_over_L", "y_last", "y_prev", "collisions", "time"}) {
+        per[key] = nlohmann::ordered_json::array();
+      }
+      for (const ClosedSample& s : r.samples) {
+        per["release"].push_back(s.fraction);
+        per["state"].push_back(to_string(s.state));
+        per["x_last_over_L"].push_back(s.x_last / half_width);
+        per["x_prev_over_L"].push_back(s.x_prev / half_width);
+        per["y_last"].push_back(s.y_last);
+        per["y_prev"].push_back(s.y_prev);
+        per["collisions"].push_back(s.collisions);
+        per["time"].push_back(s.time);
+      }
+      j["per_sample"] = per;
+      j["provenance"] = provenance_json(command_line);
+      text = j.dump(2) + "\n";
+    } else {
+      text = csv_line({"release", "state", "x_last_over_L", "x_prev_over_L", "y_last", "y_prev", "collisions", "time"});
+      for (const ClosedSample& s : r.samples) {
+        text += csv_line({number(s.fraction), std::string(to_string(s.state)), number(s.x_last / half_width),
+                          number(s.x_prev / half_width), number(s.y_last), number(s.y_prev),
+                          std::to_string(s.collisions), number(s.time)});
+      }
+    }
+    write_output(out, text);
+  }
+};
+
+}  // namespace
+
+void add_closed_command(CLI::App& app, const std::string& command_line) {
+  auto cmd = std::make_shared<ClosedCommand>();
+  cmd->command_line = command_line;
+  CLI::App* sub = app.add_subcommand(
+      "closed", "Closed funnel (gap 0): does each release reach the period-2 orbit or rest? (Figs. 11, 12)");
+  add_model_options(*sub, cmd->model, false);
+  add_ensemble_options(*sub, cmd->ens);
+  sub->add_option("--max-time", cmd->max_time, "time cap per release; > 0 (default 1e4); beyond it: undecided")->type_name("T");
+  sub->add_option("--max-coll", cmd->max_coll, "collision cap per release; integer >= 1 (default 1e7)")->type_name("N");
+  sub->add_option("--window", cmd->window,
+                  "consecutive collisions that must pass the periodic test; integer >= 1 (default 20)")->type_name("K");
+  sub->add_option("--slip-tol", cmd->slip_tol, "periodic test: |slip before| <= tol * speed; > 0 (default 1e-6)")->type_name("TOL");
+  sub->add_option("--height-tol", cmd->height_tol,
+                  "periodic test: |y_k - y_(k-1)| <= tol * |y_k|; > 0 (default 1e-6)")->type_name("TOL");
+  sub->add_option("--format", cmd->format, "output format: json or csv (default json)")->type_name("FMT");
+  sub->add_option("--out", cmd->out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
+  sub->callback([cmd] { cmd->run(); });
+}
+
+}  // namespace funnel::cli
