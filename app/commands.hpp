@@ -15,5 +15,7 @@ void add_ensemble_command(CLI::App& app, const std::string& command_line);
 void add_sweep_command(CLI::App& app, const std::string& command_line);
 /// Registers `funnel closed`: long-time states of a closed funnel.
 void add_closed_command(CLI::App& app, const std::string& command_line);
+/// Registers `funnel orbit`: eigenvalues and stability of the period-2 orbit.
+void add_orbit_command(CLI::App& app, const std::string& command_line);
 
 }  // namespace funnel::cli

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   funnel::cli::add_ensemble_command(app, command_line);
   funnel::cli::add_sweep_command(app, command_line);
   funnel::cli::add_closed_command(app, command_line);
+  funnel::cli::add_orbit_command(app, command_line);
 
   try {
     app.parse(argc, argv);

@@ -145,4 +145,37 @@ TEST_F(Cli, EnsembleCsvAndJsonAgree) {
   EXPECT_NE(csv.find("," + mean + ","), std::string::npos) << mean << "\n" << csv;
 }
 
+TEST_F(Cli, OrbitReportsEigenvaluesStabilityAndJacobianAgreement) {
+  const Result r = run("orbit --theta 44,46 --beta0 0.31 --format csv --out " + path("o.csv"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string csv = read("o.csv");
+  EXPECT_EQ(csv.rfind("theta,beta0,inertia,radius,re1,im1,mod1", 0), 0u);
+  // 44 degrees: unstable (stable = 0); 46 degrees: stable (1).
+  const auto at44 = csv.find("\n44,0.31,0.4,0.01,");
+  const auto at46 = csv.find("\n46,0.31,0.4,0.01,");
+  ASSERT_NE(at44, std::string::npos) << csv;
+  ASSERT_NE(at46, std::string::npos) << csv;
+  const std::string line44 = csv.substr(at44, at46 - at44);
+  const std::string line46 = csv.substr(at46);
+  EXPECT_NE(line44.find(",0,"), std::string::npos) << line44;
+  EXPECT_NE(line46.find(",1,"), std::string::npos) << line46;
+  ASSERT_EQ(run("orbit --theta 60 --out " + path("o.json")).code, 0);
+  for (const char* key : {"\"eigenvalues\"", "\"real\"", "\"imag\"", "\"modulus\"", "\"stable\"",
+                          "\"jacobian_max_rel_diff\""}) {
+    EXPECT_NE(read("o.json").find(key), std::string::npos) << key;
+  }
+  expect_rejected(run("orbit --theta 60 --e 0.5 --out " + path("x.json")), "e", "orbit");
+  expect_rejected(run("orbit --theta 60 --y-star -1 --out " + path("x.json")), "y-star", "-1");
+}
+
+TEST_F(Cli, ClosedReportsThePeriodicFraction) {
+  const Result r = run("closed --theta 70 --e 1 --mu 1 --samples 50 --out " + path("c.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string json = read("c.json");
+  EXPECT_NE(json.find("\"periodic_fraction\": 1.0"), std::string::npos) << json.substr(0, 600);
+  EXPECT_NE(json.find("\"x_last_over_L\""), std::string::npos);
+  expect_rejected(run("closed --gap 0.04 --out " + path("x.json")), "gap", "0.04");
+  expect_rejected(run("closed --max-time 0 --out " + path("x.json")), "max-time", "0");
+}
+
 }  // namespace

@@ -1,0 +1,119 @@
+// `funnel orbit`: eigenvalues and stability of the period-2 orbit (paper Sec. IV, Fig. 10).
+#include <memory>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "funnel/orbit.hpp"
+#include "output.hpp"
+
+namespace funnel::cli {
+
+namespace {
+
+/// One grid point of the orbit analysis.
+struct OrbitPoint {
+  orbit::OrbitParams params;
+  Eigen::Vector4cd eigenvalues;
+  bool stable = false;
+  double jacobian_diff = 0.0;  // max |paper - finite differences| / max |paper|, dimensionless form
+};
+
+OrbitPoint analyse(const orbit::OrbitParams& op, double y_star) {
+  OrbitPoint pt;
+  pt.params = op;
+  pt.eigenvalues = orbit::orbit_eigenvalues(op);
+  pt.stable = orbit::is_stable(pt.eigenvalues);
+  const Eigen::Matrix4d paper = orbit::scaled_jacobian(orbit::jacobian_paper(y_star, op), y_star, op);
+  const Eigen::Matrix4d fd = orbit::scaled_jacobian(orbit::jacobian_fd(y_star, op), y_star, op);
+  pt.jacobian_diff = (paper - fd).cwiseAbs().maxCoeff() / paper.cwiseAbs().maxCoeff();
+  return pt;
+}
+
+struct OrbitCommand {
+  ModelOptions model;
+  std::string y_star = "0.5";
+  std::string format = "json";
+  std::string out = "-";
+  std::string command_line;
+
+  void run() const {
+    for (const auto& [name, text] : model.given) {
+      if (name != "theta" && name != "beta0" && name != "inertia" && name != "radius") {
+        throw UsageError("invalid option --" + name + " for funnel orbit: the orbit depends on theta, beta0, inertia, radius only (e = 1, sticking)");
+      }
+    }
+    const auto ys = parse_number(y_star);
+    if (!ys || !(*ys > 0.0)) throw UsageError("invalid y-star = '" + y_star + "': valid range is y-star > 0");
+    const std::vector<Params> points = expand_grid(default_params(), to_axes(model));
+    validate_all(points);
+    const Format fmt = to_format(format);
+    check_writable(out);
+
+    std::vector<OrbitPoint> results;
+    for (const Params& p : points) results.push_back(analyse({p.theta, p.beta0, p.inertia, p.radius}, *ys));
+
+    std::string text;
+    if (fmt == Format::Json) {
+      nlohmann::ordered_json j;
+      j["y_star"] = *ys;
+      j["points"] = nlohmann::ordered_json::array();
+      for (const OrbitPoint& r : results) {
+        nlohmann::ordered_json pj;
+        pj["theta"] = r.params.theta_deg;
+        pj["beta0"] = r.params.beta0;
+        pj["inertia"] = r.params.kappa;
+        pj["radius"] = r.params.radius;
+        pj["eigenvalues"] = nlohmann::ordered_json::array();
+        for (int i = 0; i < 4; ++i) {
+          const auto z = r.eigenvalues[i];
+          pj["eigenvalues"].push_back({{"real", z.real()}, {"imag", z.imag()}, {"modulus", std::abs(z)}});
+        }
+        pj["stable"] = r.stable;
+        pj["jacobian_max_rel_diff"] = r.jacobian_diff;
+        j["points"].push_back(pj);
+      }
+      j["provenance"] = provenance_json(command_line);
+      text = j.dump(2) + "\n";
+    } else {
+      std::vector<std::string> cols{"theta", "beta0", "inertia", "radius"};
+      for (int i = 1; i <= 4; ++i) {
+        for (const char* part : {"re", "im", "mod"}) cols.push_back(std::string(part) + std::to_string(i));
+      }
+      cols.emplace_back("stable");
+      cols.emplace_back("jacobian_max_rel_diff");
+      text = csv_line(cols);
+      for (const OrbitPoint& r : results) {
+        std::vector<std::string> row{number(r.params.theta_deg), number(r.params.beta0), number(r.params.kappa),
+                                     number(r.params.radius)};
+        for (int i = 0; i < 4; ++i) {
+          const auto z = r.eigenvalues[i];
+          row.push_back(number(z.real()));
+          row.push_back(number(z.imag()));
+          row.push_back(number(std::abs(z)));
+        }
+        row.emplace_back(r.stable ? "1" : "0");
+        row.push_back(number(r.jacobian_diff));
+        text += csv_line(row);
+      }
+    }
+    write_output(out, text);
+  }
+};
+
+}  // namespace
+
+void add_orbit_command(CLI::App& app, const std::string& command_line) {
+  auto cmd = std::make_shared<OrbitCommand>();
+  cmd->command_line = command_line;
+  CLI::App* sub = app.add_subcommand(
+      "orbit", "Eigenvalues and stability of the period-2 orbit (e = 1, sticking collisions) per grid point (Fig. 10).");
+  add_model_options(*sub, cmd->model, true);
+  sub->add_option("--y-star", cmd->y_star,
+                  "orbit height y* for the Jacobians (the eigenvalues do not depend on it); > 0 (default 0.5)")
+      ->type_name("Y");
+  sub->add_option("--format", cmd->format, "output format: json or csv (default json)")->type_name("FMT");
+  sub->add_option("--out", cmd->out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
+  sub->callback([cmd] { cmd->run(); });
+}
+
+}  // namespace funnel::cli
