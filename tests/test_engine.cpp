@@ -83,7 +83,9 @@ TEST(Engine, MirrorReleaseGivesMirrorTrajectory) {
         const Event& ea = a.events[i];
         const Event& eb = b.events[i];
         EXPECT_EQ(ea.kind, eb.kind);
-        if (ea.wall) EXPECT_NE(*ea.wall, *eb.wall);
+        if (ea.wall) {
+          EXPECT_NE(*ea.wall, *eb.wall);
+        }
         EXPECT_TRUE(near(ea.time, eb.time, 1e-9));
         EXPECT_TRUE(near(ea.position.x, -eb.position.x, 1e-9, 1e-12));
         EXPECT_TRUE(near(ea.position.y, eb.position.y, 1e-9, 1e-12));
@@ -163,7 +165,9 @@ TEST(Engine, CollapseEndsInSustainedContactAndTheParticleExits) {
   EXPECT_TRUE(start && end);
   // The contact ended at C*.
   for (const Event& e : log.events) {
-    if (e.kind == EventKind::ContactEnd) EXPECT_EQ(e.position.y, g.y_face_end);
+    if (e.kind == EventKind::ContactEnd) {
+      EXPECT_EQ(e.position.y, g.y_face_end);
+    }
   }
 }
 
