@@ -17,5 +17,7 @@ void add_sweep_command(CLI::App& app, const std::string& command_line);
 void add_closed_command(CLI::App& app, const std::string& command_line);
 /// Registers `funnel orbit`: eigenvalues and stability of the period-2 orbit.
 void add_orbit_command(CLI::App& app, const std::string& command_line);
+/// Registers `funnel paper`: every figure of the paper.
+void add_paper_command(CLI::App& app, const std::string& command_line);
 
 }  // namespace funnel::cli

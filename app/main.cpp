@@ -10,7 +10,10 @@
 
 int main(int argc, char** argv) {
   std::string command_line;
-  for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
+  for (int i = 0; i < argc; ++i) {
+    if (i > 0) command_line += ' ';
+    command_line += argv[i];
+  }
 
   CLI::App app{"funnel: exact event-driven simulation of a frictional, inelastic sphere falling\n"
                "through a 2D funnel (Walton's collision law). Units: H = g = m = 1.",
@@ -22,6 +25,7 @@ int main(int argc, char** argv) {
   funnel::cli::add_sweep_command(app, command_line);
   funnel::cli::add_closed_command(app, command_line);
   funnel::cli::add_orbit_command(app, command_line);
+  funnel::cli::add_paper_command(app, command_line);
 
   try {
     app.parse(argc, argv);

@@ -178,4 +178,33 @@ TEST_F(Cli, ClosedReportsThePeriodicFraction) {
   expect_rejected(run("closed --max-time 0 --out " + path("x.json")), "max-time", "0");
 }
 
+TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
+  const Result r = run("paper --quick --no-plots --out " + path("paper"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::pair<const char*, const char*> figures[] = {
+      {"fig02", "panel,theta,e,mu,beta0,radius,gap,inertia,t_max,max_collisions,release_dist,samples,duration_mean"},
+      {"fig03", "panel,theta,e,mu,beta0"},
+      {"fig04", "panel,theta,e,mu,beta0"},
+      {"fig05", "panel,theta,e,mu,beta0"},
+      {"fig06", "panel,theta,e,mu,beta0"},
+      {"fig07", "panel,theta,release,duration,status,collisions\n"},
+      {"fig08", "panel,theta,time,kind,wall,x,y,u_before,v_before,omega_before,u_after,v_after,omega_after"},
+      {"fig10", "theta,mod1,mod2,mod3,mod4,stable\n"},
+      {"fig11", "panel,mu,release,state,x1_over_L,x2_over_L\n"},
+      {"fig12", "theta,mu,periodic_fraction\n"},
+      {"fig13", "panel,theta,e,mu,beta0"}};
+  for (const auto& [fig, header] : figures) {
+    const std::string dir = std::string("paper/") + fig + "/" + fig;
+    const std::string csv = read(dir + ".csv");
+    const std::string json = read(dir + ".json");
+    EXPECT_EQ(csv.rfind(header, 0), 0u) << fig << ": " << csv.substr(0, 200);
+    EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 10) << fig;
+    EXPECT_NE(json.find("\"holds\": true"), std::string::npos) << fig << ": " << json.substr(json.find("\"check\""), 400);
+    EXPECT_NE(json.find("\"git_commit\""), std::string::npos) << fig;
+  }
+  // The summary table names every figure with its verdict.
+  EXPECT_EQ(r.output.find(" NO "), std::string::npos) << r.output;
+  expect_rejected(run("paper --quick --only fig99 --out " + path("p2")), "only", "fig99");
+}
+
 }  // namespace

@@ -1,0 +1,166 @@
+// Loading the figure definitions of paper/*.toml.
+#include "paper_cases.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "cli_common.hpp"
+
+namespace funnel::cli {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& file, const std::string& what) {
+  throw UsageError("invalid figure definition '" + file + "': " + what);
+}
+
+double number_of(const toml::node& node, const std::string& file, const std::string& key) {
+  const auto v = node.value<double>();
+  if (!v) fail(file, "'" + key + "' must be a number");
+  return *v;
+}
+
+std::vector<double> numbers_of(const toml::node& node, const std::string& file, const std::string& key) {
+  std::vector<double> out;
+  if (const toml::array* arr = node.as_array()) {
+    for (const toml::node& item : *arr) out.push_back(number_of(item, file, key));
+  } else if (const auto text = node.value<std::string>()) {
+    std::string reason;
+    auto values = parse_values(*text, reason);
+    if (!values) fail(file, "'" + key + "': " + reason);
+    out = *values;
+  } else {
+    out.push_back(number_of(node, file, key));
+  }
+  return out;
+}
+
+std::vector<std::string> strings_of(const toml::node& node, const std::string& file, const std::string& key) {
+  std::vector<std::string> out;
+  if (const toml::array* arr = node.as_array()) {
+    for (const toml::node& item : *arr) {
+      const auto s = item.value<std::string>();
+      if (!s) fail(file, "'" + key + "' must hold strings");
+      out.push_back(*s);
+    }
+  } else if (const auto s = node.value<std::string>()) {
+    out.push_back(*s);
+  } else {
+    fail(file, "'" + key + "' must be a string or an array of strings");
+  }
+  return out;
+}
+
+std::string canonical(std::string key) {
+  std::replace(key.begin(), key.end(), '_', '-');
+  return key;
+}
+
+bool is_model_parameter(const std::string& key) {
+  const auto& names = sweep_parameter_names();
+  return std::find(names.begin(), names.end(), key) != names.end();
+}
+
+void read_params(const toml::table& table, std::map<std::string, double>& into, const std::string& file) {
+  for (auto&& [k, node] : table) {
+    const std::string key = canonical(std::string(k.str()));
+    if (key == "id" || key == "label") continue;
+    if (!is_model_parameter(key)) fail(file, "unknown parameter '" + std::string(k.str()) + "'");
+    into[key] = number_of(node, file, key);
+  }
+}
+
+}  // namespace
+
+FigureSpec load_figure(const std::string& path, bool quick) {
+  toml::table tbl;
+  try {
+    tbl = toml::parse_file(path);
+  } catch (const toml::parse_error& err) {
+    fail(path, std::string(err.description()));
+  }
+  FigureSpec fig;
+  fig.source = path;
+  auto text = [&](const char* key, bool required) {
+    const auto v = tbl[key].value<std::string>();
+    if (!v && required) fail(path, std::string("missing string '") + key + "'");
+    return v.value_or("");
+  };
+  fig.id = text("figure", true);
+  fig.kind = text("kind", true);
+  fig.title = text("title", true);
+  fig.caption = text("caption", true);
+  fig.series = text("series", false);
+  if (const toml::node* n = tbl.get("observables")) fig.observables = n->as_array() && n->as_array()->empty()
+                                                                         ? std::vector<std::string>{}
+                                                                         : strings_of(*n, path, "observables");
+  if (const toml::node* n = tbl.get("samples")) fig.samples = static_cast<std::int64_t>(number_of(*n, path, "samples"));
+  if (const toml::node* n = tbl.get("release_dist")) fig.dists = strings_of(*n, path, "release_dist");
+  if (const toml::node* n = tbl.get("release_dists")) fig.dists = strings_of(*n, path, "release_dists");
+  if (const toml::node* n = tbl.get("thetas")) fig.thetas = numbers_of(*n, path, "thetas");
+  if (const toml::node* n = tbl.get("mus")) fig.mus = numbers_of(*n, path, "mus");
+  if (const toml::node* n = tbl.get("releases")) fig.releases = numbers_of(*n, path, "releases");
+  if (const toml::table* p = tbl["params"].as_table()) read_params(*p, fig.params, path);
+  if (const toml::table* g = tbl["grid"].as_table()) {
+    for (auto&& [k, node] : *g) {
+      const std::string key = canonical(std::string(k.str()));
+      if (!is_model_parameter(key)) fail(path, "unknown grid parameter '" + std::string(k.str()) + "'");
+      fig.grid.push_back({key, numbers_of(node, path, key)});
+    }
+  }
+  if (const toml::array* panels = tbl["panels"].as_array()) {
+    for (const toml::node& node : *panels) {
+      const toml::table* t = node.as_table();
+      if (t == nullptr) fail(path, "each [[panels]] entry must be a table");
+      PanelSpec panel;
+      panel.id = (*t)["id"].value_or(std::string());
+      panel.label = (*t)["label"].value_or(std::string());
+      if (panel.id.empty()) fail(path, "a panel has no id");
+      read_params(*t, panel.params, path);
+      fig.panels.push_back(panel);
+    }
+  }
+  if (fig.panels.empty()) fig.panels.push_back({"a", "", {}});
+  if (const toml::table* c = tbl["check"].as_table()) fig.check = *c;
+  if (quick) {
+    if (const toml::table* q = tbl["quick"].as_table()) {
+      for (auto&& [k, node] : *q) {
+        const std::string key = canonical(std::string(k.str()));
+        if (key == "samples") {
+          fig.samples = static_cast<std::int64_t>(number_of(node, path, key));
+          continue;
+        }
+        auto axis = std::find_if(fig.grid.begin(), fig.grid.end(), [&](const Axis& a) { return a.name == key; });
+        if (axis == fig.grid.end()) fail(path, "[quick] overrides '" + key + "', which is not a grid axis");
+        axis->values = numbers_of(node, path, key);
+      }
+    }
+  }
+  if (fig.samples < 1) fail(path, "samples must be >= 1");
+  for (const std::string& d : fig.dists) to_release_dist(d);
+  return fig;
+}
+
+std::vector<FigureSpec> load_figures(const std::string& dir, bool quick) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw UsageError("invalid paper-dir = '" + dir + "': not a directory");
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("fig", 0) == 0 && entry.path().extension() == ".toml") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<FigureSpec> figs;
+  for (const std::string& f : files) figs.push_back(load_figure(f, quick));
+  return figs;
+}
+
+Params panel_params(const FigureSpec& fig, const PanelSpec& panel) {
+  Params p = default_params();
+  for (const auto& [k, v] : fig.params) set_parameter(p, k, v);
+  for (const auto& [k, v] : panel.params) set_parameter(p, k, v);
+  return p;
+}
+
+}  // namespace funnel::cli

@@ -1,0 +1,55 @@
+// Computing the data of each figure of the paper, and checking the paper's claim on it.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "funnel/ensemble.hpp"
+#include "paper_cases.hpp"
+
+namespace funnel::cli {
+
+/// Ensembles requested by all theta-sweep figures, de-duplicated and run as one parallel batch.
+class SweepCache {
+ public:
+  /// Asks for the ensemble of `params` with `samples` releases from `dist`.
+  void request(const Params& params, ReleaseDist dist, std::int64_t samples);
+  /// Runs every requested ensemble not yet computed.
+  void run(int threads, const Progress& progress);
+  /// A computed ensemble; throws std::out_of_range if it was never requested.
+  const EnsembleResult& get(const Params& params, ReleaseDist dist, std::int64_t samples) const;
+  /// Number of distinct ensembles requested.
+  std::size_t size() const { return entries_.size(); }
+
+ private:
+  using Key = std::tuple<std::string, int, std::int64_t>;
+  static Key key(const Params& params, ReleaseDist dist, std::int64_t samples);
+  struct Entry {
+    Params params;
+    ReleaseDist dist;
+    std::int64_t samples;
+    EnsembleResult result;
+    bool done = false;
+  };
+  std::map<Key, Entry> entries_;
+};
+
+/// What one figure writes: its CSV, extra metadata, and the check of the paper's claim.
+struct FigureData {
+  std::string csv;
+  nlohmann::ordered_json extra = nlohmann::ordered_json::object();  ///< merged into figNN.json
+  nlohmann::ordered_json check;  ///< {"claim", "measured", "holds"}
+};
+
+/// Adds the ensembles a theta-sweep figure needs to the cache (nothing for other kinds).
+void request_sweeps(const FigureSpec& fig, SweepCache& cache);
+
+/// Computes a figure (theta sweeps are read from the cache, which must have run).
+FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int threads);
+
+}  // namespace funnel::cli
