@@ -46,7 +46,7 @@ namespace {
 class Run {
  public:
   Run(const Params& params, const Geometry& g, const State& initial, EventSink* sink)
-      : params_(params), g_(g), mat_(material(params)), sink_(sink), state_(initial) {
+      : params_(params), g_(g), mat_(material(params)), law_(collision_constants(mat_)), sink_(sink), state_(initial) {
     e0_ = energy(initial, mat_.kappa, mat_.radius);
   }
 
@@ -116,7 +116,7 @@ class Run {
 
   /// Book-keeping shared by face and edge collisions; returns the collision.
   Collision apply_collision(EventKind kind, Wall wall, Vec2 n) {
-    const Collision c = collide(state_, n, mat_);
+    const Collision c = collide(state_, n, law_);
     ++out_.collisions;
     out_.impulse += std::sqrt(c.j_n * c.j_n + c.j_t * c.j_t);
     out_.normal_impulse += c.j_n;
@@ -236,6 +236,7 @@ class Run {
   const Params& params_;
   const Geometry& g_;
   const Material mat_;
+  const CollisionConstants law_;
   EventSink* sink_;
   State state_;
   double time_ = 0.0;

@@ -45,8 +45,29 @@ struct Collision {
   double energy_lost = 0.0;          ///< kinetic energy lost, >= 0 (paper's Delta E1 or Delta E2)
 };
 
+/// Constants of the collision law derived once from a Material; every value is the same
+/// expression the law would otherwise evaluate per collision, so results are bit-identical.
+struct CollisionConstants {
+  double e = 0.0;              ///< normal restitution
+  double mu = 0.0;             ///< friction coefficient
+  double one_plus_e = 0.0;     ///< 1 + e
+  double reduced = 0.0;        ///< 1 + 1/kappa = 1 + m a^2 / I
+  double slide_factor = 0.0;   ///< mu (1 + e)(1 + 1/kappa): mu < mu_c iff slide_factor |p| < (1 + beta0)|s|
+  double one_plus_beta0 = 0.0; ///< 1 + beta0
+  double kappa_a = 0.0;        ///< kappa a
+  double half_1_minus_e2 = 0.0;///< (1 - e^2)/2
+  double half_reduced = 0.0;   ///< (1 + 1/kappa)/2
+  double radius = 0.0;         ///< a
+};
+
+/// The constants of a material.
+CollisionConstants collision_constants(const Material& m);
+
 /// Applies Walton's law at a contact with unit normal n (from the contact point to the centre).
 Collision collide(const State& before, Vec2 n, const Material& m);
+
+/// The same with precomputed constants (the engine's hot path).
+Collision collide(const State& before, Vec2 n, const CollisionConstants& k);
 
 /// Critical friction mu_c of a collision (paper, after Eq. 7); infinite when p = 0 and s != 0.
 double critical_friction(double p, double slip, const Material& m);
