@@ -31,8 +31,11 @@ int resolve_threads(int threads) { return threads > 0 ? threads : std::max(1, om
 
 namespace {
 
-/// Samples per work unit: the unit of scheduling and of the fixed-order reduction.
-constexpr std::int64_t block_size = 64;
+/// Work units per ensemble: the unit of scheduling and of the fixed-order reduction. A fixed
+/// cap keeps the memory of an ensemble independent of N; the partition depends on N only, never
+/// on the thread count, so the reduction order (and every bit of the result) is fixed.
+constexpr std::int64_t max_chunks = 256;
+constexpr std::int64_t min_chunk = 16;
 
 /// Statistics of one block of samples.
 struct BlockStats {
@@ -102,7 +105,7 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
   // are exact mirror images, so only the first half (and the middle one) is simulated.
   const bool mirror = options.dist == ReleaseDist::Line;
   const std::int64_t n_unique = mirror ? (n + 1) / 2 : n;
-  const std::int64_t blocks_per_point = (n_unique + block_size - 1) / block_size;
+  const std::int64_t blocks_per_point = std::min(max_chunks, (n_unique + min_chunk - 1) / min_chunk);
   const std::int64_t n_points = static_cast<std::int64_t>(points.size());
   const std::int64_t n_tasks = n_points * blocks_per_point;
 
@@ -120,8 +123,9 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t task = 0; task < n_tasks; ++task) {
     const std::int64_t point = task / blocks_per_point;
-    const std::int64_t first = (task % blocks_per_point) * block_size;
-    const std::int64_t last = std::min(first + block_size, n_unique);
+    const std::int64_t chunk = task % blocks_per_point;
+    const std::int64_t first = chunk * n_unique / blocks_per_point;
+    const std::int64_t last = (chunk + 1) * n_unique / blocks_per_point;
     const Params& params = points[static_cast<std::size_t>(point)];
     const Geometry& g = geometries[static_cast<std::size_t>(point)];
     BlockStats& stats = blocks[static_cast<std::size_t>(task)];
