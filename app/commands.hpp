@@ -19,5 +19,7 @@ void add_closed_command(CLI::App& app, const std::string& command_line);
 void add_orbit_command(CLI::App& app, const std::string& command_line);
 /// Registers `funnel paper`: every figure of the paper.
 void add_paper_command(CLI::App& app, const std::string& command_line);
+/// Registers `funnel bench`: collisions per second of the reference ensemble and sweep.
+void add_bench_command(CLI::App& app, const std::string& command_line);
 
 }  // namespace funnel::cli

@@ -40,7 +40,7 @@ constexpr std::int64_t min_chunk = 16;
 /// Statistics of one block of samples.
 struct BlockStats {
   Accumulator duration, impulse, normal_impulse, energy_loss, collisions, edge_collisions, contact_time;
-  std::int64_t exited = 0, rest = 0, trapped = 0, total_collisions = 0;
+  std::int64_t exited = 0, rest = 0, trapped = 0, total_collisions = 0, simulated_collisions = 0;
 
   void add(const Trajectory& t) {
     duration.add(t.duration);
@@ -68,6 +68,7 @@ struct BlockStats {
     rest += o.rest;
     trapped += o.trapped;
     total_collisions += o.total_collisions;
+    simulated_collisions += o.simulated_collisions;
   }
 };
 
@@ -85,6 +86,7 @@ EnsembleResult to_result(const BlockStats& s, std::int64_t samples) {
   r.rest = s.rest;
   r.trapped = s.trapped;
   r.total_collisions = s.total_collisions;
+  r.simulated_collisions = s.simulated_collisions;
   return r;
 }
 
@@ -134,6 +136,7 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
       const Trajectory t = simulate_release(params, g, fraction);
       const std::int64_t partner = mirror ? n - 1 - k : k;
       stats.add(t);
+      stats.simulated_collisions += t.collisions;
       if (partner != k) stats.add(t);
       if (options.keep_samples) {
         auto& kept = results[static_cast<std::size_t>(point)].per_sample;

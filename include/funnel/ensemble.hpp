@@ -47,6 +47,7 @@ struct EnsembleResult {
   Summary duration, impulse, normal_impulse, energy_loss, collisions, edge_collisions, contact_time;
   std::int64_t exited = 0, rest = 0, trapped = 0;  ///< count of each status
   std::int64_t total_collisions = 0;               ///< summed over the samples
+  std::int64_t simulated_collisions = 0;           ///< collisions actually computed (mirror halving)
   std::vector<Sample> per_sample;                  ///< filled when keep_samples
 };
 

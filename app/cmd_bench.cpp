@@ -1,0 +1,129 @@
+// `funnel bench`: throughput of the reference ensemble and the reference sweep (docs/performance.md).
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "funnel/ensemble.hpp"
+#include "funnel/grid.hpp"
+#include "funnel/version.hpp"
+#include "output.hpp"
+
+namespace funnel::cli {
+
+namespace {
+
+/// Median wall time of `repeat` runs of `work`, which returns the ensemble results.
+template <class Work>
+double median_seconds(int repeat, Work&& work) {
+  std::vector<double> times;
+  for (int i = 0; i < repeat; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    work();
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+std::vector<double> theta_values() {
+  std::vector<double> v;
+  for (int theta = 20; theta <= 80; theta += 5) v.push_back(theta);
+  return v;
+}
+
+struct BenchCommand {
+  std::string threads = "1";
+  std::string samples = "40000";
+  std::string repeat = "5";
+  std::string format = "text";
+  std::string command_line;
+
+  void run() const {
+    const int n_threads = to_threads(threads);
+    const std::int64_t n = to_samples(samples);
+    const auto r = parse_number(repeat);
+    if (!r || *r < 1 || *r > 1000 || *r != static_cast<int>(*r)) {
+      throw UsageError("invalid repeat = '" + repeat + "': valid range is an integer 1 <= repeat <= 1000");
+    }
+    if (format != "text" && format != "json") throw UsageError("invalid format = '" + format + "': valid values are text, json");
+    const int reps = static_cast<int>(*r);
+
+    // Reference ensemble (issue 5): theta = 60, e = 0.99, mu = 1, beta0 = 0, line release.
+    const Params ref = default_params();
+    EnsembleResult ens;
+    const EnsembleOptions opt{n, ReleaseDist::Line, n_threads, false};
+    const double t_ens = median_seconds(reps, [&] { ens = run_ensemble(ref, opt); });
+
+    // Reference sweep: theta = 20..80 in 5 degree steps, 4000 samples, on 1 thread and on T.
+    const std::vector<Params> points = expand_grid(ref, {{"theta", theta_values()}});
+    std::int64_t sweep_collisions = 0;
+    auto sweep = [&](int t) {
+      const auto res = run_sweep(points, {4000, ReleaseDist::Line, t, false});
+      sweep_collisions = 0;
+      for (const auto& x : res) sweep_collisions += x.simulated_collisions;
+    };
+    const int all = resolve_threads(n_threads == 1 ? 0 : n_threads);
+    const double t_sweep1 = median_seconds(reps, [&] { sweep(1); });
+    const double t_sweepn = median_seconds(reps, [&] { sweep(all); });
+
+    nlohmann::ordered_json j;
+    j["reference_ensemble"] = {
+        {"params", params_json(ref)},
+        {"samples", n},
+        {"threads", resolve_threads(n_threads)},
+        {"wall_time_s", t_ens},
+        {"collisions", ens.total_collisions},
+        {"simulated_collisions", ens.simulated_collisions},
+        {"collisions_per_second", static_cast<double>(ens.total_collisions) / t_ens},
+        {"simulated_collisions_per_second", static_cast<double>(ens.simulated_collisions) / t_ens},
+        {"trajectories_per_second", static_cast<double>(n) / t_ens}};
+    j["reference_sweep"] = {{"grid", "theta = 20:80:5, e = 0.99, mu = 1, beta0 = 0, N = 4000"},
+                            {"points", points.size()},
+                            {"simulated_collisions", sweep_collisions},
+                            {"wall_time_1_thread_s", t_sweep1},
+                            {"threads", all},
+                            {"wall_time_s", t_sweepn},
+                            {"speedup", t_sweep1 / t_sweepn},
+                            {"trajectories_per_second", static_cast<double>(points.size() * 4000) / t_sweepn}};
+    j["repeat"] = reps;
+    j["statistic"] = "median wall time";
+    j["provenance"] = provenance_json(command_line);
+    if (format == "json") {
+      std::cout << j.dump(2) << "\n";
+      return;
+    }
+    const auto& e = j["reference_ensemble"];
+    const auto& s = j["reference_sweep"];
+    std::printf("funnel %s (%s), median of %d runs\n", std::string(version()).c_str(), std::string(git_commit()).c_str(), reps);
+    std::printf("reference ensemble  theta 60, e 0.99, mu 1, beta0 0, N %lld, %d thread(s)\n",
+                static_cast<long long>(n), e["threads"].get<int>());
+    std::printf("  wall time                   %10.4f s\n", t_ens);
+    std::printf("  collisions                  %10lld  (%lld simulated: mirror halving)\n",
+                static_cast<long long>(ens.total_collisions), static_cast<long long>(ens.simulated_collisions));
+    std::printf("  collisions per second       %10.3e  (simulated: %.3e)\n", e["collisions_per_second"].get<double>(),
+                e["simulated_collisions_per_second"].get<double>());
+    std::printf("  trajectories per second     %10.3e\n", e["trajectories_per_second"].get<double>());
+    std::printf("reference sweep     %s\n", s["grid"].get<std::string>().c_str());
+    std::printf("  wall time, 1 thread         %10.4f s\n", t_sweep1);
+    std::printf("  wall time, %d threads        %10.4f s  (speedup %.2f)\n", all, t_sweepn, t_sweep1 / t_sweepn);
+    std::printf("  trajectories per second     %10.3e\n", s["trajectories_per_second"].get<double>());
+  }
+};
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, const std::string& command_line) {
+  auto cmd = std::make_shared<BenchCommand>();
+  cmd->command_line = command_line;
+  CLI::App* sub = app.add_subcommand("bench", "Measure collisions per second on the reference ensemble and sweep.");
+  sub->add_option("--threads", cmd->threads, "threads for the reference ensemble; 0 = all cores (default 1)")->type_name("T");
+  sub->add_option("--samples", cmd->samples, "samples of the reference ensemble (default 40000)")->type_name("N");
+  sub->add_option("--repeat", cmd->repeat, "runs per measurement; the median is reported (default 5)")->type_name("R");
+  sub->add_option("--format", cmd->format, "text or json (default text)")->type_name("FMT");
+  sub->callback([cmd] { cmd->run(); });
+}
+
+}  // namespace funnel::cli
