@@ -73,6 +73,19 @@ std::optional<ParamError> validate(const Params& params) {
                   "1 + (gap/2) tan(theta) - radius/cos(theta) > 0";
       return err;
     }
+    // The derived geometry must be finite (found by fuzz/fuzz_parse): a gap near the largest
+    // double overflows y_b, and a subnormal theta (below ~1e-306 degrees) overflows the
+    // release line's half-width L = y_0 / tan(theta); either made every output NaN.
+    if (!std::isfinite(y_bottom)) {
+      ParamError err = error("gap", params.gap);
+      err.range += " with (gap/2) tan(theta) finite";
+      return err;
+    }
+    if (!std::isfinite((1.0 + y_bottom) / std::tan(rad))) {
+      ParamError err = error("theta", params.theta);
+      err.range = "0 < theta < 90 (degrees) with a finite half-width (1 + y_b)/tan(theta) of the release line";
+      return err;
+    }
   }
   if (!(params.inertia > 0.0 && std::isfinite(params.inertia))) return error("inertia", params.inertia);
   if (!(params.t_max > 0.0 && std::isfinite(params.t_max))) return error("t-max", params.t_max);

@@ -8,7 +8,10 @@
 namespace funnel {
 
 double line_arrival_time(double delta0, double p, double c) {
-  if (delta0 >= 0.0) {
+  // On the line: exactly 2p/c (MODEL.md §3). The general form gives the same bits, since
+  // sqrt(fl(p*p)) = |p| in binary floating point, but costs a square root.
+  if (delta0 == 0.0) return p >= 0.0 ? 2.0 * p / c : 0.0;
+  if (delta0 > 0.0) {
     const double s = std::sqrt(p * p + 2.0 * delta0 * c);
     // Both forms avoid subtracting nearly equal numbers (MODEL.md §3).
     return p >= 0.0 ? (p + s) / c : 2.0 * delta0 / (s - p);
@@ -29,7 +32,11 @@ double first_positive_root(double a2, double a1, double a0) {
   const double disc = a1 * a1 - 4.0 * a2 * a0;
   if (disc < 0.0) return never;
   // q has the sign of a1 so that no cancellation occurs; the roots are q/a2 and a0/q.
-  const double q = -0.5 * (a1 + std::copysign(std::sqrt(disc), a1));
+  // a1 = -0 is taken as +0 (not copysign): a mirror-image input, such as the speed along the
+  // right face of a particle at rest (0 * -cos = -0), must give the same bits as the left's
+  // (found by fuzz/fuzz_physics: a mirror release slid for a different last bit of time).
+  const double root = std::sqrt(disc);
+  const double q = -0.5 * (a1 + (a1 < 0.0 ? -root : root));
   double r1 = q / a2;
   double r2 = q != 0.0 ? a0 / q : r1;
   if (r1 > r2) std::swap(r1, r2);
