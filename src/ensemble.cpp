@@ -101,7 +101,7 @@ Trajectory mirrored(Trajectory t) {
 }  // namespace
 
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
-                                      const Progress& progress) {
+                                      const Progress& progress, const PointDone& point_done) {
   const std::int64_t n = options.samples;
   // The engine is exactly mirror symmetric and the line distribution's samples k and N-1-k
   // are exact mirror images, so only the first half (and the middle one) is simulated.
@@ -120,7 +120,20 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
     for (auto& r : results) r.per_sample.resize(static_cast<std::size_t>(n));
   }
   std::vector<BlockStats> blocks(static_cast<std::size_t>(n_tasks));
+  std::vector<std::int64_t> pending(points.size(), blocks_per_point);  // chunks left per point
   std::int64_t finished = 0;
+
+  // Reduces a point's chunks in index order: the same bits whatever the thread count.
+  auto reduce = [&](std::int64_t point) {
+    BlockStats total;
+    for (std::int64_t b = 0; b < blocks_per_point; ++b) {
+      total.merge(blocks[static_cast<std::size_t>(point * blocks_per_point + b)]);
+    }
+    EnsembleResult& r = results[static_cast<std::size_t>(point)];
+    std::vector<Sample> kept = std::move(r.per_sample);
+    r = to_result(total, n);
+    r.per_sample = std::move(kept);
+  };
 
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t task = 0; task < n_tasks; ++task) {
@@ -144,21 +157,15 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
         if (partner != k) kept[static_cast<std::size_t>(partner)] = {-fraction, mirrored(t)};
       }
     }
-    if (progress) {
-#pragma omp critical(funnel_progress)
-      progress(++finished, n_tasks);
+#pragma omp critical(funnel_sweep)
+    {
+      if (--pending[static_cast<std::size_t>(point)] == 0) {
+        reduce(point);
+        if (point_done) point_done(static_cast<std::size_t>(point), results[static_cast<std::size_t>(point)]);
+      }
+      ++finished;
+      if (progress) progress(finished, n_tasks);
     }
-  }
-
-  // Reduce each point's blocks in index order: the same bits whatever the thread count.
-  for (std::int64_t point = 0; point < n_points; ++point) {
-    BlockStats total;
-    for (std::int64_t b = 0; b < blocks_per_point; ++b) {
-      total.merge(blocks[static_cast<std::size_t>(point * blocks_per_point + b)]);
-    }
-    std::vector<Sample> kept = std::move(results[static_cast<std::size_t>(point)].per_sample);
-    results[static_cast<std::size_t>(point)] = to_result(total, n);
-    results[static_cast<std::size_t>(point)].per_sample = std::move(kept);
   }
   return results;
 }

@@ -59,9 +59,14 @@ using Progress = std::function<void(std::int64_t, std::int64_t)>;
 /// symmetric, so each result also stands for its mirror image.
 EnsembleResult run_ensemble(const Params& params, const EnsembleOptions& options, const Progress& progress = {});
 
-/// Runs one ensemble per parameter set, all in one parallel pool; results in input order.
+/// Called once per finished point with its index and result; from one thread at a time, in
+/// completion order (not index order).
+using PointDone = std::function<void(std::size_t, const EnsembleResult&)>;
+
+/// Runs one ensemble per parameter set, all in one parallel pool; results in input order. Each
+/// point's result is the same, bit for bit, as run_ensemble of that point alone.
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
-                                      const Progress& progress = {});
+                                      const Progress& progress = {}, const PointDone& point_done = {});
 
 /// Number of threads used for `threads` = 0 (all cores) or the value itself.
 int resolve_threads(int threads);
