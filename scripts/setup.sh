@@ -7,6 +7,7 @@ FUNNEL_PACKAGES=(
   build-essential cmake git pkg-config
   libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev
   libgtest-dev libbenchmark-dev
+  python3-dev pybind11-dev python3-numpy python3-matplotlib python3-pytest
 )
 
 funnel_missing_packages() {

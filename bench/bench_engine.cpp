@@ -1,0 +1,82 @@
+// Google Benchmark: the collision law, one event search, one trajectory and the reference ensemble.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "funnel/engine.hpp"
+#include "funnel/ensemble.hpp"
+#include "funnel/flight.hpp"
+#include "funnel/walton.hpp"
+
+namespace {
+
+using namespace funnel;
+
+/// The reference parameters of docs/performance.md: theta = 60, e = 0.99, mu = 1, beta0 = 0.
+Params reference() { return default_params(); }
+
+void BM_Collide(benchmark::State& st) {
+  const Params p = reference();
+  const CollisionConstants k = collision_constants(material(p));
+  const Geometry g = make_geometry(p);
+  const Vec2 n = face_normal(g, Wall::Left);
+  State s;
+  s.v = {0.3, -1.2};
+  s.omega = 4.0;
+  for (auto _ : st) {
+    const Collision c = collide(s, n, k);
+    benchmark::DoNotOptimize(c);
+    s.omega = c.after.omega * 0.5;  // keep the input changing
+  }
+  st.counters["collisions_per_second"] = benchmark::Counter(static_cast<double>(st.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Collide);
+
+void BM_NextEventFaceToFace(benchmark::State& st) {
+  const Params p = reference();
+  const Geometry g = make_geometry(p);
+  State s;
+  s.r = {-0.3, 0.3 * g.tan_t};
+  s.v = {0.9, 0.4};
+  FlightStart start;
+  start.on_face = Wall::Left;
+  for (auto _ : st) {
+    const NextEvent ev = next_event(g, s, start);
+    benchmark::DoNotOptimize(ev);
+    s.v.y = 0.4 + 1e-9 * ev.dt;
+  }
+  st.counters["events_per_second"] = benchmark::Counter(static_cast<double>(st.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_NextEventFaceToFace);
+
+void BM_Trajectory(benchmark::State& st) {
+  const Params p = reference();
+  const Geometry g = make_geometry(p);
+  std::int64_t collisions = 0;
+  for (auto _ : st) {
+    const Trajectory t = simulate_release(p, g, 0.3);
+    collisions += t.collisions;
+    benchmark::DoNotOptimize(t);
+  }
+  st.counters["collisions_per_second"] = benchmark::Counter(static_cast<double>(collisions), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Trajectory);
+
+void BM_ReferenceEnsemble(benchmark::State& st) {
+  const Params p = reference();
+  const EnsembleOptions opt{40000, ReleaseDist::Line, static_cast<int>(st.range(0)), false};
+  std::int64_t collisions = 0, simulated = 0;
+  for (auto _ : st) {
+    const EnsembleResult r = run_ensemble(p, opt);
+    collisions += r.total_collisions;
+    simulated += r.simulated_collisions;
+  }
+  st.counters["collisions_per_second"] = benchmark::Counter(static_cast<double>(collisions), benchmark::Counter::kIsRate);
+  st.counters["simulated_collisions_per_second"] =
+      benchmark::Counter(static_cast<double>(simulated), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_ReferenceEnsemble)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,51 @@
+"""funnel: exact event-driven simulation of a frictional, inelastic sphere falling through a funnel.
+
+A Python front end to the C++ library, like the ``funnel`` command line:
+
+- :func:`simulate` — one trajectory (``funnel trajectory``), optionally with its event log;
+- :func:`ensemble` — statistics over release positions (``funnel ensemble``);
+- :func:`sweep` — one ensemble per point of a parameter grid (``funnel sweep``);
+- :func:`geometry` — the funnel's derived geometry, for plotting.
+
+Model parameters are keyword arguments named like the command-line options with '-' turned
+into '_': theta [deg], e, mu, beta0, radius, gap, inertia, t_max, max_collisions. Units:
+H = g = m = 1 (times in sqrt(H/g), impulses in m sqrt(gH), energies in mgH). Invalid values
+raise ValueError with the library's message. Results are dicts of Python numbers and 1-D
+numpy arrays.
+
+Plots of the paper's figures: ``python -m funnel.plot OUTDIR`` (module :mod:`funnel.plot`,
+which imports matplotlib only when used). See docs/python.md.
+"""
+
+from ._api import (
+    DEFAULT_SAMPLES,
+    MODEL_PARAMETERS,
+    OBSERVABLES,
+    STATISTICS,
+    default_params,
+    ensemble,
+    geometry,
+    git_commit,
+    simulate,
+    sweep,
+    valid_range,
+    version,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "DEFAULT_SAMPLES",
+    "MODEL_PARAMETERS",
+    "OBSERVABLES",
+    "STATISTICS",
+    "default_params",
+    "ensemble",
+    "geometry",
+    "git_commit",
+    "simulate",
+    "sweep",
+    "valid_range",
+    "version",
+]
+# Issue 3 adds `orbit` and `closed` (periodic-orbit theory, closed funnel) to the imports above.

@@ -1,0 +1,250 @@
+"""The documented Python API over the compiled module ``funnel._funnel``.
+
+Model parameters are keyword arguments named like the command-line options with '-' turned
+into '_': theta, e, mu, beta0, radius, gap, inertia, t_max, max_collisions. Units: H = g = m = 1
+(lengths in H, times in sqrt(H/g), impulses in m sqrt(gH), energies in mgH).
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+try:
+    from . import _funnel
+except ImportError as _error:  # plotting works without the compiled module
+    _funnel = None
+    _import_error = _error
+else:
+    _import_error = None
+
+#: Model keyword arguments, in the order of the grid's axes and of the CSV columns.
+MODEL_PARAMETERS = ("theta", "e", "mu", "beta0", "radius", "gap", "inertia", "t_max", "max_collisions")
+
+#: Observables summarised by ensembles and sweeps, in column order.
+OBSERVABLES = ("duration", "impulse", "normal_impulse", "energy_loss", "collisions",
+               "edge_collisions", "contact_time")
+
+#: Statistics of each observable: mean, sample standard deviation, standard error, min, max.
+STATISTICS = ("mean", "std", "sem", "min", "max")
+
+#: Default number of release positions of an ensemble (MODEL.md section 8).
+DEFAULT_SAMPLES = 4000
+
+
+def _core():
+    if _funnel is None:
+        raise ImportError(
+            "funnel's compiled module funnel._funnel is not importable (build it with CMake and put "
+            f"<build>/python on PYTHONPATH; see docs/python.md): {_import_error}")
+    return _funnel
+
+
+def _check_names(function, model):
+    for name in model:
+        if name not in MODEL_PARAMETERS:
+            raise TypeError(f"{function}() got an unexpected keyword argument '{name}' "
+                            f"(model parameters: {', '.join(MODEL_PARAMETERS)})")
+
+
+def _scalar(name, value):
+    """A model value as float; TypeError for anything that is not a real number."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, not {type(value).__name__}")
+    return float(value)
+
+
+def _model(function, model):
+    _check_names(function, model)
+    return {name: _scalar(name, value) for name, value in model.items()}
+
+
+def _count(name, value):
+    """An integer option (samples, threads); floats are accepted when integral."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be an integer, not bool")
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real) and float(value).is_integer():
+        return int(value)
+    if isinstance(value, numbers.Real):
+        raise ValueError(f"invalid {name} = {value!r}: not an integer")
+    raise TypeError(f"{name} must be an integer, not {type(value).__name__}")
+
+
+def _text_columns(columns, names):
+    for name in names:
+        if name in columns:
+            columns[name] = np.asarray(columns[name], dtype=str)
+    return columns
+
+
+def simulate(release, events=False, **model):
+    """Simulate one trajectory released at rest at x0 = release * L.
+
+    Parameters
+    ----------
+    release : float
+        Release position x0/L, -1 < release < 1 (``--release``).
+    events : bool
+        Also return the event log (``--events``).
+    **model
+        Model parameters (theta, e, mu, beta0, radius, gap, inertia, t_max, max_collisions);
+        the others keep their defaults.
+
+    Returns
+    -------
+    dict
+        As ``funnel trajectory --format json`` without "provenance": ``params`` (dict),
+        ``release``, ``x0``, ``y0``, ``status`` ("exited", "rest" or "trapped"), ``duration``
+        [sqrt(H/g)], ``impulse`` and ``normal_impulse`` [m sqrt(gH)], ``energy_loss`` [mgH],
+        ``collisions``, ``edge_collisions``, ``face_collisions``, ``contacts`` (int),
+        ``contact_time`` [sqrt(H/g)]. With ``events=True`` also ``events``: a dict of 1-D numpy
+        arrays of equal length, one entry per event: time, x, y, u_before, v_before,
+        omega_before, u_after, v_after, omega_after, slip_before, j_n, j_t, energy_lost
+        (float64), and kind ("face", "edge", "contact_start", "contact_end", "exit"),
+        wall ("left", "right", "none") and regime ("none", "sliding", "sticking", "rolling")
+        as arrays of str.
+
+    Raises
+    ------
+    ValueError
+        Invalid parameters, with the library's message, e.g.
+        "invalid theta = 95: valid range is 0 < theta < 90 (degrees)".
+
+    Examples
+    --------
+    >>> r = funnel.simulate(release=0.3, theta=60)
+    >>> r["status"], r["duration"]
+    """
+    core = _core()
+    result = core.simulate(_model("simulate", model), _scalar("release", release), bool(events))
+    if events:
+        _text_columns(result["events"], ("kind", "wall", "regime"))
+    return result
+
+
+def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample=False, **model):
+    """Statistics of the observables over ``samples`` release positions.
+
+    Parameters
+    ----------
+    samples : int
+        Number of release positions N, 1 <= N <= 10^9.
+    release_dist : {"line", "disk"}
+        "line": the 2D funnel, x0_k = L(-1 + (2k+1)/N); "disk": the axisymmetric cone
+        (paper Sec. V), uniform over the disk of radius L.
+    threads : int
+        Worker threads, 0 = all cores. Results are bit-identical for any count.
+    per_sample : bool
+        Also return every trajectory's observables.
+    **model
+        Model parameters, as for :func:`simulate`.
+
+    Returns
+    -------
+    dict
+        As ``funnel ensemble --format json`` without "provenance": ``params``,
+        ``release_dist``, ``samples``, one dict {"mean", "std", "sem", "min", "max"} per
+        observable (duration, impulse, normal_impulse, energy_loss, collisions,
+        edge_collisions, contact_time), ``status_counts`` {"exited", "rest", "trapped"} and
+        ``total_collisions``. With ``per_sample=True`` also ``per_sample``: a dict of 1-D
+        arrays of length N in sample order: release (x0/L), duration, impulse,
+        normal_impulse, energy_loss, contact_time (float64), collisions, edge_collisions,
+        face_collisions, contacts (int64) and status (str).
+
+    Examples
+    --------
+    >>> r = funnel.ensemble(theta=46, samples=400)
+    >>> r["duration"]["mean"], r["status_counts"]["exited"]
+    """
+    core = _core()
+    result = core.ensemble(_model("ensemble", model), _count("samples", samples), str(release_dist),
+                           _count("threads", threads), bool(per_sample))
+    if per_sample:
+        _text_columns(result["per_sample"], ("status",))
+    return result
+
+
+def _axis_values(name, value):
+    """Values of one sweep axis from a number, a sequence, an array or a "a,b"/"start:stop:step" text."""
+    if isinstance(value, str):
+        return list(_core().parse_values(name, value))
+    if isinstance(value, (numbers.Real, np.generic)) and not isinstance(value, (bool, np.bool_)):
+        return [_scalar(name, value)]
+    array = np.asarray(value)
+    if array.ndim == 0:
+        return [_scalar(name, array.item())]
+    if array.ndim != 1:
+        raise ValueError(f"invalid {name}: a sweep axis must be one-dimensional, got shape {array.shape}")
+    return [_scalar(name, v) for v in array.tolist()]
+
+
+def sweep(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, **model):
+    """One ensemble per point of a parameter grid, like ``funnel sweep``.
+
+    Each model keyword takes a number, a sequence or 1-D array of numbers, or a text
+    "a,b,c" or "start:stop:step" (inclusive, as on the command line). The grid is the
+    Cartesian product over theta, e, mu, beta0, radius, gap, inertia, t_max,
+    max_collisions in that order (the last varies fastest), whatever the keyword order.
+
+    Returns
+    -------
+    dict
+        One 1-D numpy array per CSV column of ``funnel sweep``, same names and order, one
+        element per grid point: theta ... t_max (float64), max_collisions (int64),
+        release_dist (str), samples (int64), ``<observable>_<stat>`` (float64) for the
+        observables duration, impulse, normal_impulse, energy_loss, collisions,
+        edge_collisions, contact_time and the stats mean, std, sem, min, max, then
+        exited, rest, trapped, total_collisions (int64).
+
+    Examples
+    --------
+    >>> s = funnel.sweep(theta="40:50:1", mu=[0, 1], samples=400)
+    >>> s["theta"], s["duration_mean"]
+    """
+    core = _core()
+    _check_names("sweep", model)
+    axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS if name in model]
+    result = core.sweep(axes, _count("samples", samples), str(release_dist), _count("threads", threads))
+    return _text_columns(result, ("release_dist",))
+
+
+def geometry(**model):
+    """Derived geometry of the funnel (origin where the two centre lines meet; units of H).
+
+    Returns
+    -------
+    dict
+        theta [deg], sin_t, cos_t, tan_t, radius (a), half_gap (d/2), closed (bool), y_bottom
+        (y_b, the edges' height and exit level), y_release (y_0 = y_b + 1), half_width
+        (L = y_0 / tan(theta)), y_face_end and x_face_end (C*, lower end of the face region;
+        the left one is at -x_face_end). The lower edge points are (+-half_gap, y_bottom).
+    """
+    return _core().geometry(_model("geometry", model))
+
+
+def default_params():
+    """The library's default parameters as a dict (the keys of a result's ``params``)."""
+    return _core().default_params()
+
+
+def valid_range(name):
+    """Text of a parameter's valid range, e.g. valid_range("theta") -> "0 < theta < 90 (degrees)"."""
+    return _core().valid_range(name)
+
+
+def version():
+    """Version of the compiled library, e.g. "0.1.0"."""
+    return _core().version()
+
+
+def git_commit():
+    """Git commit of the sources the module was built from, or "unknown"."""
+    return _core().git_commit()
+
+
+# Issue 3: the periodic-orbit theory (`orbit`, eigenvalues of the two-collision map, paper
+# Sec. IV and Fig. 10) and the closed funnel's final states (`closed`, Figs. 11 and 12) are
+# wrapped here, over the bindings of the same names, and re-exported from __init__.py.

@@ -1,0 +1,557 @@
+"""Figures of the paper from the data that ``funnel paper`` writes (docs/python.md).
+
+``python -m funnel.plot OUTDIR`` renders, for every ``OUTDIR/figNN/`` holding ``figNN.json`` and
+``figNN.csv``, the files ``figNN.png`` and ``figNN.svg`` next to them, then writes
+``OUTDIR/index.html`` (see :mod:`funnel.report`). matplotlib is imported only when a figure is
+drawn; figures are drawn on the Agg canvas without pyplot, so no display is needed. The data
+are read with the standard csv module and numpy.
+
+Figure kinds (the JSON's "kind"): theta_sweep (Figs. 2-6, 13), release_scan (Fig. 7),
+trajectories (Fig. 8), eigenvalues (Fig. 10), closed_final (Fig. 11), periodic_fraction (Fig. 12).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+#: Axis label and unit of each observable (units of the nondimensionalisation, MODEL.md).
+OBSERVABLE_LABELS = {
+    "duration": ("average duration", r"$\sqrt{H/g}$"),
+    "impulse": ("average impulse", r"$m\sqrt{gH}$"),
+    "normal_impulse": ("average normal impulse", r"$m\sqrt{gH}$"),
+    "energy_loss": ("average energy loss", r"$mgH$"),
+    "collisions": ("average number of collisions", None),
+    "edge_collisions": ("average number of edge collisions", None),
+    "contact_time": ("average contact time", r"$\sqrt{H/g}$"),
+}
+
+#: Symbols of the parameters that distinguish curves.
+SYMBOLS = {"theta": r"$\theta$", "e": r"$e$", "mu": r"$\mu$", "beta0": r"$\beta_0$", "radius": r"$a$",
+           "gap": r"$d$", "inertia": r"$\kappa$", "t_max": r"$t_\mathrm{max}$"}
+
+#: Curve colours (Okabe-Ito, readable in gray and by colour-blind readers); black first.
+COLORS = ("#000000", "#E69F00", "#0072B2", "#009E73", "#D55E00", "#CC79A7", "#56B4E9", "#F0E442")
+
+#: Publication style: serif text (STIX, as in the paper), thin lines, ticks inside.
+STYLE = {
+    "font.family": "STIXGeneral",
+    "mathtext.fontset": "stix",
+    "font.size": 9,
+    "axes.labelsize": 9,
+    "axes.titlesize": 9,
+    "legend.fontsize": 7.5,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "axes.linewidth": 0.7,
+    "lines.linewidth": 1.0,
+    "xtick.direction": "in",
+    "ytick.direction": "in",
+    "xtick.top": True,
+    "ytick.right": True,
+    "xtick.major.size": 3.5,
+    "ytick.major.size": 3.5,
+    "xtick.minor.size": 2,
+    "ytick.minor.size": 2,
+    "xtick.major.width": 0.6,
+    "ytick.major.width": 0.6,
+    "legend.frameon": False,
+    "legend.handlelength": 1.8,
+    "savefig.dpi": 200,
+    "svg.hashsalt": "funnel",
+}
+
+#: Columns read as text even when every field looks like a number.
+TEXT_COLUMNS = frozenset({"panel", "kind", "wall", "regime", "status", "state", "release_dist"})
+
+KINDS = ("theta_sweep", "release_scan", "trajectories", "eigenvalues", "closed_final", "periodic_fraction")
+
+
+# ---------------------------------------------------------------------------------------------
+# Data
+
+def read_csv(path):
+    """Columns of a CSV file as a dict of 1-D numpy arrays: float64 where every field is a
+    number, str otherwise (and always for the TEXT_COLUMNS)."""
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader, [])
+        rows = [row for row in reader if row]
+    columns = {}
+    for j, name in enumerate(header):
+        values = [row[j] if j < len(row) else "" for row in rows]
+        if name in TEXT_COLUMNS:
+            columns[name] = np.array(values, dtype=str)
+            continue
+        try:
+            columns[name] = np.array([float(v) for v in values], dtype=np.float64)
+        except ValueError:
+            columns[name] = np.array(values, dtype=str)
+    return columns
+
+
+def load_figure(figdir):
+    """(meta, columns) of a figure directory ``figNN/`` with ``figNN.json`` and ``figNN.csv``."""
+    figdir = Path(figdir)
+    with open(figdir / f"{figdir.name}.json") as f:
+        meta = json.load(f)
+    return meta, read_csv(figdir / f"{figdir.name}.csv")
+
+
+def _select(columns, mask):
+    return {name: values[mask] for name, values in columns.items()}
+
+
+def _unique(values):
+    """Distinct values in order of first appearance."""
+    seen = []
+    for v in values.tolist():
+        if v not in seen:
+            seen.append(v)
+    return seen
+
+
+def _panels(meta, columns):
+    """[(id, label)] of the figure's panels: those of the CSV's panel column, with their labels
+    from the JSON (else the JSON's list). A panel without a label is named by the series column
+    when it holds one value there (e.g. "θ = 20°" in Fig. 7)."""
+    panels = [(str(p.get("id", "")), str(p.get("label", ""))) for p in meta.get("panels") or []]
+    if "panel" in columns:
+        labels = dict(panels)
+        ids = [str(p) for p in _unique(columns["panel"])]
+        panels = [(pid, labels[pid]) for pid, _ in panels if pid in ids]
+        panels += [(pid, labels.get(pid, "")) for pid in ids if pid not in dict(panels)]
+    series = meta.get("series")
+    if series in columns and "panel" in columns:
+        for i, (pid, label) in enumerate(panels):
+            values = _unique(columns[series][columns["panel"] == pid])
+            if not label and len(values) == 1:
+                panels[i] = (pid, series_label(series, values[0]))
+    return panels or [("", "")]
+
+
+def _panel_rows(columns, panel_id):
+    if "panel" not in columns or panel_id == "":
+        return columns
+    return _select(columns, columns["panel"].astype(str) == panel_id)
+
+
+def _number(x):
+    return (f"{x:g}" if isinstance(x, float) else str(x)).replace("-", "\u2212")
+
+
+def series_label(name, value):
+    """Legend text of one curve, e.g. "μ = 0.05", "θ = 50°", "cone (disk)"."""
+    if name == "release_dist":
+        return {"disk": "cone (disk)", "line": "2D funnel (line)"}.get(str(value), str(value))
+    text = f"{SYMBOLS.get(name, name)} = {_number(value)}"
+    return text + "°" if name == "theta" else text
+
+
+def pretty(label):
+    """A panel label as mathtext: "β0 = -0.31" -> "$\\beta_0$ = −0.31"."""
+    for plain, math_text in (("β0", r"$\beta_0$"), ("μ", r"$\mu$"), ("θ", r"$\theta$"), ("κ", r"$\kappa$")):
+        label = label.replace(plain, math_text)
+    return label.replace("= -", "= \u2212")
+
+
+def axis_label(observable):
+    label, unit = OBSERVABLE_LABELS.get(observable, (observable.replace("_", " "), None))
+    return f"{label} [{unit}]" if unit else label
+
+
+# ---------------------------------------------------------------------------------------------
+# Drawing helpers
+
+def _new_figure(width, height):
+    from matplotlib.figure import Figure  # lazy: the package works without matplotlib
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+    return Figure(figsize=(width, height), layout=ConstrainedLayoutEngine(h_pad=0.06, w_pad=0.06))
+
+
+def _panel_title(ax, letter, label, centred=False):
+    """Panel letter "(a)" above the axes on the left; the label next to it, or centred."""
+    text = f"({letter})" if letter else ""
+    label = pretty(label)
+    if centred:
+        if text:
+            ax.set_title(text, loc="left", pad=3)
+        if label:
+            ax.set_title(label, pad=3)
+    else:
+        ax.set_title(f"{text}  {label}".strip(), loc="left", pad=3)
+
+
+def _legend_band(entries, ncol):
+    """Height in inches of a legend band of `entries` in `ncol` columns."""
+    return 0.17 * math.ceil(entries / ncol) + 0.06 if entries else 0.0
+
+
+def _top_legend(fig, ncol, **kwargs):
+    """One legend of every panel's labelled artists, in a band above all panels (the figure is
+    already that much taller)."""
+    handles, labels = [], []
+    for ax in fig.axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    if not handles:
+        return
+    band = _legend_band(len(handles), ncol)
+    fig.get_layout_engine().set(rect=(0, 0, 1, 1 - band / fig.get_figheight()))
+    fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 1.0), ncol=ncol,
+               columnspacing=1.4 if ncol * 1.1 < fig.get_figwidth() else 0.8, handlelength=1.5, borderaxespad=0.2,
+               **kwargs)
+
+
+def _theta_axis(ax, theta):
+    from matplotlib.ticker import MultipleLocator
+    ax.axvline(45.0, color="0.45", lw=0.7, ls=(0, (4, 3)), zorder=0)
+    if len(theta):
+        lo, hi = float(np.min(theta)), float(np.max(theta))
+        if hi > lo:
+            ax.set_xlim(lo, hi)
+    ax.xaxis.set_major_locator(MultipleLocator(15))
+    ax.xaxis.set_minor_locator(MultipleLocator(5))
+    ax.set_xlabel(r"$\theta$ [deg]")
+
+
+def _series_style(series, index, value):
+    """(colour, line style) of curve `index`; Fig. 13 draws the cone solid and the 2D funnel dashed."""
+    if series == "release_dist":
+        return ("#0072B2", "--") if str(value) == "line" else ("#000000", "-")
+    return COLORS[index % len(COLORS)], "-"
+
+
+# ---------------------------------------------------------------------------------------------
+# The kinds
+
+def plot_theta_sweep(meta, columns):
+    """<observable>_mean vs theta, one curve per value of the series column, a ±sem band;
+    one column per panel, one row per observable."""
+    panels = _panels(meta, columns)
+    observables = meta.get("observables") or ["duration"]
+    series = meta.get("series")
+    nrow, ncol = len(observables), len(panels)
+    values = _unique(columns[series]) if series and series in columns else [None]
+    legend_cols = len(values) if ncol > 1 or len(values) <= 4 else 3
+    band = _legend_band(len(values) if values != [None] else 0, legend_cols)
+    fig = _new_figure(3.4 if ncol == 1 else 7.0, (2.5 if ncol == 1 else 2.2) * nrow + 0.2 + band)
+    axes = fig.subplots(nrow, ncol, squeeze=False, sharex=True, sharey="row")
+    grid = nrow > 1
+    for c, (pid, plabel) in enumerate(panels):
+        rows = _panel_rows(columns, pid)
+        for r, obs in enumerate(observables):
+            ax = axes[r][c]
+            for k, value in enumerate(values):
+                sel = rows if value is None else _select(rows, rows[series] == value)
+                order = np.argsort(sel["theta"], kind="stable")
+                theta = sel["theta"][order]
+                mean = sel[f"{obs}_mean"][order]
+                color, ls = _series_style(series, k, value)
+                label = None if value is None else series_label(series, value)
+                if f"{obs}_sem" in sel:
+                    sem = sel[f"{obs}_sem"][order]
+                    ax.fill_between(theta, mean - sem, mean + sem, color=color, alpha=0.18, lw=0)
+                ax.plot(theta, mean, color=color, ls=ls, lw=0.9, label=label)
+            _theta_axis(ax, rows["theta"])
+            ax.set_ylim(bottom=0)
+            if c == 0:
+                ax.set_ylabel(axis_label(obs))
+            if r < nrow - 1:
+                ax.set_xlabel("")
+            if grid:
+                letter = "abcdefghijklmnopqrstuvwxyz"[r * ncol + c]
+                _panel_title(ax, letter, plabel if r == 0 else "", centred=True)
+            else:
+                _panel_title(ax, pid if ncol > 1 else "", plabel, centred=True)
+    if values != [None]:
+        _top_legend(fig, legend_cols)
+    return fig
+
+
+def plot_release_scan(meta, columns):
+    """Duration vs x0/L, one panel per funnel angle (3 x 3 for Fig. 7), as small points."""
+    panels = _panels(meta, columns)
+    ncol = 3 if len(panels) > 4 else len(panels)
+    nrow = math.ceil(len(panels) / ncol)
+    fig = _new_figure(7.0, 1.95 * nrow + 0.3)
+    axes = fig.subplots(nrow, ncol, squeeze=False, sharex=True)
+    for i, (pid, plabel) in enumerate(panels):
+        ax = axes[i // ncol][i % ncol]
+        rows = _panel_rows(columns, pid)
+        status = rows["status"].astype(str) if "status" in rows else np.full(len(rows["release"]), "exited")
+        done = status == "exited"
+        ax.scatter(rows["release"][done], rows["duration"][done], s=1.0, c="k", marker="o", lw=0,
+                   rasterized=True)
+        if np.any(~done):
+            ax.scatter(rows["release"][~done], rows["duration"][~done], s=4, c="#D55E00", marker="x", lw=0.5,
+                       label="not exited", rasterized=True)
+            ax.legend(loc="best", markerscale=1.5)
+        ax.set_xlim(-1, 1)
+        ax.margins(y=0.04)
+        ax.set_ylim(bottom=0)
+        _panel_title(ax, pid, plabel)
+        if i // ncol == nrow - 1:
+            ax.set_xlabel(r"$x_0/L$")
+        if i % ncol == 0:
+            ax.set_ylabel(r"duration [$\sqrt{H/g}$]")
+    for j in range(len(panels), nrow * ncol):
+        axes[j // ncol][j % ncol].set_visible(False)
+    return fig
+
+
+def trajectory_path(geometry, events, samples_per_arc=None):
+    """(x, y, t) of the particle centre's path: from the release at rest, the parabola of each
+    free flight (velocity after an event, gravity (0, -1)) up to the next event's time; a
+    straight segment along the wall during a sustained contact (contact_start to contact_end).
+    Each arc has `samples_per_arc` points, its last one at the event ending it."""
+    time, x, y = events["time"], events["x"], events["y"]
+    n = len(time)
+    if n == 0:
+        return np.zeros(0), np.zeros(0), np.zeros(0)
+    if "release" in geometry and "half_width" in geometry:
+        x0 = float(geometry["release"]) * float(geometry["half_width"])
+    else:
+        x0 = float(x[0])  # the first flight is a vertical fall from rest
+    kind = events["kind"].astype(str)
+    t_start = np.concatenate([[0.0], time[:-1]])
+    x_start = np.concatenate([[x0], x[:-1]])
+    y_start = np.concatenate([[float(geometry["y_release"])], y[:-1]])
+    u_start = np.concatenate([[0.0], events["u_after"][:-1]])
+    v_start = np.concatenate([[0.0], events["v_after"][:-1]])
+    sliding = np.concatenate([[False], kind[:-1] == "contact_start"])
+    k = samples_per_arc or (48 if n < 2000 else 12 if n < 50000 else 4)
+    s = np.linspace(0.0, 1.0, k)[None, :]
+    tau = (time - t_start)[:, None] * s
+    px = x_start[:, None] + u_start[:, None] * tau
+    py = y_start[:, None] + v_start[:, None] * tau - 0.5 * tau * tau
+    # A contact moves along the face: interpolate between its start and end points.
+    px[sliding] = x_start[sliding, None] + (x[sliding] - x_start[sliding])[:, None] * s
+    py[sliding] = y_start[sliding, None] + (y[sliding] - y_start[sliding])[:, None] * s
+    return px.ravel(), py.ravel(), (t_start[:, None] + tau).ravel()
+
+
+def _draw_funnel(ax, g):
+    """Walls (solid, ending at the edge points), centre lines (dotted, meeting at the origin)
+    and the release line (dash-dotted), in the frame of the paper's Fig. 1."""
+    s, c = math.sin(math.radians(g["theta"])), math.cos(math.radians(g["theta"]))
+    top = g["y_release"] + 0.06
+    for sign in (-1.0, 1.0):
+        ex, ey = sign * g["half_gap"], g["y_bottom"]
+        length = (top - ey) / s
+        ax.plot([ex, ex + sign * c * length], [ey, top], color="k", lw=1.6, solid_capstyle="butt", zorder=3)
+        ax.plot([0.0, sign * top / math.tan(math.radians(g["theta"]))], [0.0, top], color="0.4", lw=0.6,
+                ls=(0, (1, 2)), zorder=1)
+    L = g["half_width"]
+    ax.plot([-L, L], [g["y_release"]] * 2, color="0.3", lw=0.7, ls="-.", zorder=1)
+
+
+def plot_trajectories(meta, columns):
+    """The particle centre's path in the funnel, one panel per trajectory, equal aspect ratio."""
+    from matplotlib import colormaps
+    from matplotlib.collections import LineCollection
+    from matplotlib.colors import ListedColormap
+    cmap = ListedColormap(colormaps["Blues"](np.linspace(0.3, 1.0, 256)))
+    panels = _panels(meta, columns)
+    geometries = meta.get("geometry") or {}
+    extents = []
+    for pid, _ in panels:
+        g = geometries[pid]
+        extents.append((g["y_release"] / math.tan(math.radians(g["theta"])) + 0.1, g["y_release"] + 0.1))
+    widths = [2 * w for w, _ in extents]
+    height = max(h - min(0.0, geometries[p]["y_bottom"]) + 0.05 for (p, _), (_, h) in zip(panels, extents))
+    fig_w = 7.0
+    # Axes of equal aspect: their height follows from the width left after labels and gaps.
+    fig = _new_figure(fig_w, min(9.0, (fig_w - 0.6 - 0.75 * len(panels)) * height / sum(widths) + 0.75))
+    axes = fig.subplots(1, len(panels), squeeze=False, gridspec_kw={"width_ratios": widths})[0]
+    for ax, (pid, plabel), (w, h) in zip(axes, panels, extents):
+        g = dict(geometries[pid])
+        rows = _panel_rows(columns, pid)
+        _draw_funnel(ax, g)
+        px, py, pt = trajectory_path(g, rows)
+        if len(px) > 1:
+            # Coloured by time (light early, dark late), so that a repeating pattern stands out.
+            points = np.column_stack([px, py])
+            segments = np.stack([points[:-1], points[1:]], axis=1)
+            lines = LineCollection(segments, cmap=cmap, lw=0.4, zorder=2, rasterized=len(px) > 200000)
+            lines.set_array(0.5 * (pt[:-1] + pt[1:]))
+            ax.add_collection(lines)
+            bar = fig.colorbar(lines, ax=ax, shrink=0.7, aspect=25, pad=0.02)
+            bar.set_label(r"$t$ [$\sqrt{H/g}$]")
+            bar.outline.set_linewidth(0.5)
+            ax.plot(px[0], py[0], "o", ms=3, color="#D55E00", zorder=4)
+        ax.set_aspect("equal")
+        ax.set_xlim(-w, w)
+        ax.set_ylim(min(0.0, g["y_bottom"]) - 0.05, h)
+        ax.set_xlabel(r"$x/H$")
+        _panel_title(ax, pid if len(panels) > 1 else "", plabel)
+    axes[0].set_ylabel(r"$y/H$")
+    return fig
+
+
+def plot_eigenvalues(meta, columns):
+    """Moduli of the eigenvalues vs theta: solid where the orbit is stable, dashed where not."""
+    fig = _new_figure(3.4, 2.6)
+    ax = fig.subplots()
+    theta = columns["theta"]
+    order = np.argsort(theta, kind="stable")
+    theta = theta[order]
+    stable = columns["stable"][order] > 0.5
+    # Each style is extended by one point into the other, so that the curves stay connected.
+    grow = lambda m: m | np.concatenate([m[1:], [False]]) | np.concatenate([[False], m[:-1]])
+    solid, dashed = grow(stable), grow(~stable)
+    mods = sorted((c for c in columns if c.startswith("mod") and c[3:].isdigit()), key=lambda c: int(c[3:]))
+    for k, name in enumerate(mods):
+        y = columns[name][order]
+        color = COLORS[k % len(COLORS)]
+        ax.plot(theta, np.where(solid, y, np.nan), color=color, lw=1.0, label=rf"$|\lambda_{name[3:]}|$")
+        ax.plot(theta, np.where(dashed, y, np.nan), color=color, lw=1.0, ls="--")
+    ax.axhline(1.0, color="0.5", lw=0.6, ls=":", zorder=0)
+    _theta_axis(ax, theta)
+    ax.set_ylabel(r"$|\lambda|$")
+    ax.legend(loc="best", ncol=2)
+    return fig
+
+
+def plot_closed_final(meta, columns):
+    """x_c/L of the last two collisions vs x0/L in a closed funnel: gray when the particle ends
+    on the periodic orbit, dark when it comes to rest."""
+    from matplotlib.ticker import MultipleLocator
+    panels = _panels(meta, columns)
+    ncol = 2 if len(panels) > 1 else 1
+    nrow = math.ceil(len(panels) / ncol)
+    states = set(columns["state"].astype(str).tolist())
+    fig = _new_figure(3.3 * ncol, 2.3 * nrow + 0.2 + _legend_band(len(states), 3))
+    axes = fig.subplots(nrow, ncol, squeeze=False, sharex=True, sharey=True)
+    styles = (("periodic", "0.6", "periodic orbit"), ("rest", "0.05", "rest"), ("undecided", "#D55E00", "undecided"))
+    for i, (pid, plabel) in enumerate(panels):
+        ax = axes[i // ncol][i % ncol]
+        rows = _panel_rows(columns, pid)
+        state = rows["state"].astype(str)
+        for name, color, label in styles:
+            m = state == name
+            if not np.any(m):
+                continue
+            x = np.concatenate([rows["release"][m]] * 2)
+            y = np.concatenate([rows["x1_over_L"][m], rows["x2_over_L"][m]])
+            ax.scatter(x, y, s=1.5, c=color, marker="o", lw=0, label=label, rasterized=True)
+        ax.set_xlim(-1, 1)
+        ax.set_ylim(-1, 1)
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_locator(MultipleLocator(0.5))
+            axis.set_minor_locator(MultipleLocator(0.25))
+        _panel_title(ax, pid if len(panels) > 1 else "", plabel)
+        if i // ncol == nrow - 1:
+            ax.set_xlabel(r"$x_0/L$")
+        if i % ncol == 0:
+            ax.set_ylabel(r"$x_c/L$")
+    _top_legend(fig, 3, markerscale=3, handletextpad=0.2)
+    for j in range(len(panels), nrow * ncol):
+        axes[j // ncol][j % ncol].set_visible(False)
+    return fig
+
+
+def plot_periodic_fraction(meta, columns):
+    """Fraction of releases reaching the periodic orbit vs mu, one curve per theta."""
+    fig = _new_figure(3.4, 2.6)
+    ax = fig.subplots()
+    mu_all = columns["mu"]
+    for k, theta in enumerate(_unique(columns["theta"])):
+        sel = _select(columns, columns["theta"] == theta)
+        order = np.argsort(sel["mu"], kind="stable")
+        ax.plot(sel["mu"][order], sel["periodic_fraction"][order], marker="o", ms=2.5,
+                color=COLORS[k % len(COLORS)], label=series_label("theta", theta))
+    positive = mu_all[mu_all > 0]
+    if len(positive) and positive.max() / positive.min() >= 100:
+        if np.any(mu_all <= 0):
+            ax.set_xscale("symlog", linthresh=float(positive.min()))
+        else:
+            ax.set_xscale("log")
+    ax.set_ylim(-0.02, 1.05)
+    ax.set_xlabel(r"$\mu$")
+    ax.set_ylabel("fraction reaching the periodic orbit")
+    ax.legend(loc="best")
+    return fig
+
+
+PLOTTERS = {
+    "theta_sweep": plot_theta_sweep,
+    "release_scan": plot_release_scan,
+    "trajectories": plot_trajectories,
+    "eigenvalues": plot_eigenvalues,
+    "closed_final": plot_closed_final,
+    "periodic_fraction": plot_periodic_fraction,
+}
+
+
+def plot_figure(meta, columns):
+    """The matplotlib Figure of a figure's data (meta from the JSON, columns from the CSV)."""
+    import matplotlib
+    kind = meta.get("kind")
+    if kind not in PLOTTERS:
+        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are {', '.join(KINDS)}")
+    with matplotlib.rc_context(STYLE):
+        return PLOTTERS[kind](meta, columns)
+
+
+def render(figdir):
+    """Draws ``figdir/figNN.{png,svg}`` from ``figdir/figNN.{json,csv}``; returns (meta, [paths])."""
+    import matplotlib
+    figdir = Path(figdir)
+    meta, columns = load_figure(figdir)
+    fig = plot_figure(meta, columns)
+    paths = []
+    with matplotlib.rc_context(STYLE):
+        for ext, metadata in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
+            path = figdir / f"{figdir.name}.{ext}"
+            tmp = path.with_suffix(f".tmp.{ext}")
+            fig.savefig(tmp, metadata=metadata)
+            tmp.replace(path)  # never leave a partial image
+            paths.append(path)
+    return meta, paths
+
+
+def figure_dirs(outdir):
+    """The subdirectories ``figNN`` of outdir that hold figNN.json and figNN.csv, sorted."""
+    outdir = Path(outdir)
+    return sorted(d for d in outdir.iterdir()
+                  if d.is_dir() and (d / f"{d.name}.json").is_file() and (d / f"{d.name}.csv").is_file())
+
+
+def render_all(outdir, log=None):
+    """Renders every figure of outdir and writes outdir/index.html; returns the index's path."""
+    from . import report
+    entries = []
+    for figdir in figure_dirs(outdir):
+        meta, paths = render(figdir)
+        entries.append({"dir": figdir.name, "meta": meta, "images": [p.name for p in paths]})
+        if log:
+            log(f"funnel.plot: wrote {', '.join(str(p) for p in paths)}")
+    return report.write_index(outdir, entries)
+
+
+def main(argv=None):
+    """Command line: ``python -m funnel.plot OUTDIR``."""
+    import argparse
+    parser = argparse.ArgumentParser(prog="python -m funnel.plot", description=(
+        "Render OUTDIR/figNN/figNN.{png,svg} from figNN.{json,csv} for every figure directory, "
+        "then write OUTDIR/index.html."))
+    parser.add_argument("outdir", help="directory with one subdirectory figNN/ per figure")
+    args = parser.parse_args(argv)
+    outdir = Path(args.outdir)
+    if not outdir.is_dir():
+        parser.error(f"invalid outdir = '{outdir}': not a directory")
+    index = render_all(outdir, log=lambda msg: print(msg, file=sys.stderr))
+    print(f"funnel.plot: wrote {index}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

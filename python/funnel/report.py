@@ -1,0 +1,157 @@
+"""A static HTML page of the reproduced figures: ``OUTDIR/index.html``.
+
+Each figure is shown with its caption, its parameters, its provenance and one line saying what
+the paper claims and whether the data show it (the figure JSON's "check" object). Links are
+relative, so the page works from the file system, without a server. ``python -m funnel.plot``
+writes it after rendering the images; ``python -m funnel.report OUTDIR`` rewrites only the page
+from images already there.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import sys
+from pathlib import Path
+
+_CSS = """
+body { font-family: Georgia, 'STIX Two Text', serif; max-width: 980px; margin: 2em auto; padding: 0 1em;
+       color: #111; line-height: 1.45; }
+h1 { font-size: 1.5em; margin-bottom: 0.2em; }
+h2 { font-size: 1.15em; margin: 2.2em 0 0.4em; border-bottom: 1px solid #ccc; padding-bottom: 0.2em; }
+figure { margin: 0; }
+figure img { max-width: 100%; height: auto; border: 1px solid #eee; }
+figcaption { font-size: 0.95em; margin: 0.5em 0; }
+.check { padding: 0.45em 0.7em; margin: 0.6em 0; border-left: 4px solid #999; background: #f6f6f6; }
+.check.holds { border-color: #1a7f37; background: #eefbf1; }
+.check.fails { border-color: #cf222e; background: #fff0f0; }
+.verdict { font-weight: bold; }
+.holds .verdict { color: #1a7f37; }
+.fails .verdict { color: #cf222e; }
+table { border-collapse: collapse; font-size: 0.85em; margin: 0.4em 0; }
+td, th { border: 1px solid #ddd; padding: 0.15em 0.5em; text-align: left; }
+th { background: #fafafa; font-weight: normal; color: #555; }
+.meta { font-size: 0.8em; color: #555; }
+nav a { margin-right: 0.8em; }
+"""
+
+
+def _e(value):
+    return html.escape(str(value), quote=True)
+
+
+def _params_table(params):
+    if not params:
+        return ""
+    head = "".join(f"<th>{_e(k)}</th>" for k in params)
+    cells = "".join(f"<td>{_e(_text(v))}</td>" for v in params.values())
+    return f"<table><tr>{head}</tr><tr>{cells}</tr></table>"
+
+
+def _text(value):
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_text(v) for v in value)
+    return str(value)
+
+
+def check_line(check):
+    """HTML of the claim line: what the paper says, what the data show, and the verdict."""
+    if not check:
+        return '<p class="check">No check recorded for this figure.</p>'
+    holds = check.get("holds")
+    css, verdict = {True: ("holds", "✔ holds"), False: ("fails", "✘ does not hold")}.get(holds, ("", "not decided"))
+    return (f'<p class="check {css}"><b>The paper claims:</b> {_e(check.get("claim", ""))} '
+            f'<b>Measured:</b> {_e(check.get("measured", ""))} '
+            f'<span class="verdict">{verdict}</span></p>')
+
+
+def figure_section(entry):
+    """HTML of one figure: title, image (linked to the SVG), caption, claim line, parameters."""
+    meta, d = entry["meta"], entry["dir"]
+    name = meta.get("figure", d)
+    images = {Path(p).suffix: f"{d}/{p}" for p in entry.get("images", [])}
+    png, svg = images.get(".png", f"{d}/{d}.png"), images.get(".svg", f"{d}/{d}.svg")
+    panels = meta.get("panels") or []
+    panel_text = "; ".join(f"({p.get('id', '')}) {p.get('label', '')}".strip() for p in panels)
+    series = meta.get("series")
+    details = []
+    if panel_text:
+        details.append(f"panels: {_e(panel_text)}")
+    if series:
+        details.append(f"curves by: {_e(series)}")
+    if meta.get("observables"):
+        details.append(f"observables: {_e(', '.join(meta['observables']))}")
+    if meta.get("samples") is not None:
+        details.append(f"N = {_e(meta['samples'])} release positions")
+    prov = []
+    for key, label in (("version", "funnel"), ("git_commit", "commit"), ("run_time_s", "run time [s]")):
+        if meta.get(key) is not None:
+            value = meta[key]
+            prov.append(f"{label} {_e(f'{value:.1f}' if isinstance(value, float) else value)}")
+    return f"""
+<section id="{_e(name)}">
+<h2>{_e(name)}: {_e(meta.get("title", ""))}</h2>
+<figure>
+<a href="{_e(svg)}"><img src="{_e(png)}" alt="{_e(name)}"></a>
+<figcaption>{_e(meta.get("caption", ""))}</figcaption>
+</figure>
+{check_line(meta.get("check"))}
+<p class="meta">{' &middot; '.join(details)}</p>
+{_params_table(meta.get("params") or {})}
+<p class="meta">{' &middot; '.join(prov)} &middot; data: <a href="{_e(d)}/{_e(d)}.csv">{_e(d)}.csv</a>,
+<a href="{_e(d)}/{_e(d)}.json">{_e(d)}.json</a> &middot; vector image: <a href="{_e(svg)}">{_e(Path(svg).name)}</a></p>
+</section>"""
+
+
+def write_index(outdir, entries):
+    """Writes outdir/index.html for the figure entries ({"dir", "meta", "images"}); returns its path."""
+    outdir = Path(outdir)
+    summary = [e["meta"].get("check", {}).get("holds") for e in entries]
+    n_hold = sum(1 for h in summary if h is True)
+    nav = " ".join(f'<a href="#{_e(e["meta"].get("figure", e["dir"]))}">{_e(e["meta"].get("figure", e["dir"]))}</a>'
+                   for e in entries)
+    sections = "".join(figure_section(e) for e in entries)
+    page = f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>funnel: figures of "Critical role of friction for a single particle falling through a funnel"</title>
+<style>{_CSS}</style>
+</head>
+<body>
+<h1>funnel: the paper's figures, reproduced</h1>
+<p>Simulated with funnel (exact event-driven dynamics) for the paper <i>Critical role of friction for a
+single particle falling through a funnel</i>. Units: lengths in H, times in &radic;(H/g), impulses in
+m&radic;(gH), energies in mgH. Claims confirmed by the data: {n_hold} of {len(entries)}.</p>
+<nav>{nav}</nav>
+{sections}
+</body>
+</html>
+"""
+    path = outdir / "index.html"
+    tmp = outdir / "index.html.tmp"
+    tmp.write_text(page, encoding="utf-8")
+    tmp.replace(path)
+    return path
+
+
+def main(argv=None):
+    """Command line: ``python -m funnel.report OUTDIR`` (the page only, from existing images)."""
+    from .plot import figure_dirs
+    args = sys.argv[1:] if argv is None else argv
+    if len(args) != 1 or not Path(args[0]).is_dir():
+        print("usage: python -m funnel.report OUTDIR", file=sys.stderr)
+        return 2
+    entries = []
+    for d in figure_dirs(args[0]):
+        with open(d / f"{d.name}.json") as f:
+            meta = json.load(f)
+        entries.append({"dir": d.name, "meta": meta, "images": [f"{d.name}.png", f"{d.name}.svg"]})
+    print(f"funnel.report: wrote {write_index(args[0], entries)}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

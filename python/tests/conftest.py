@@ -1,0 +1,36 @@
+"""Shared fixtures: the funnel command-line binary, for comparing the Python API with it."""
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+
+def _find_binary():
+    path = os.environ.get("FUNNEL_BINARY")
+    if path:
+        return Path(path)
+    # Run by hand: the binary of the build whose package is imported (<build>/python/funnel).
+    import funnel
+    candidate = Path(funnel.__file__).resolve().parents[2] / "funnel"
+    return candidate if candidate.is_file() else None
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """Runs `funnel ARGS...` and returns its parsed JSON output (or the raw text with json=False)."""
+    binary = _find_binary()
+    if binary is None or not binary.is_file():
+        pytest.skip("the funnel binary is unknown: set FUNNEL_BINARY")
+
+    def run(*args, json_output=True, check=True):
+        proc = subprocess.run([str(binary), *map(str, args)], capture_output=True, text=True)
+        if check and proc.returncode != 0:
+            raise AssertionError(f"funnel {' '.join(map(str, args))} failed: {proc.stderr}")
+        if not check:
+            return proc
+        return json.loads(proc.stdout) if json_output else proc.stdout
+
+    return run
