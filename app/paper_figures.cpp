@@ -25,6 +25,15 @@ nlohmann::ordered_json verdict(const std::string& claim, const std::string& meas
   return {{"claim", claim}, {"measured", measured}, {"holds", holds}};
 }
 
+/// One panel per value, labelled "<symbol> = <value><unit>": ids a, b, c, ...
+nlohmann::ordered_json value_panels(const std::vector<double>& values, const std::string& symbol, const std::string& unit) {
+  nlohmann::ordered_json panels = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    panels.push_back({{"id", std::string(1, static_cast<char>('a' + i))}, {"label", symbol + " = " + fmt(values[i]) + unit}});
+  }
+  return panels;
+}
+
 std::string claim_of(const FigureSpec& fig) { return fig.check["claim"].value_or(std::string()); }
 double check_number(const FigureSpec& fig, const char* key, double fallback) {
   return fig.check[key].value<double>().value_or(fallback);
@@ -153,6 +162,7 @@ double smoothness(const std::vector<Sample>& samples, double tol) {
 FigureData release_scan(const FigureSpec& fig, int threads) {
   FigureData out;
   out.csv = csv_line({"panel", "theta", "release", "duration", "status", "collisions"});
+  out.extra["panels"] = value_panels(fig.thetas, "θ", "°");
   std::map<double, double> smooth;
   const double tol = check_number(fig, "tolerance", 0.05);
   for (std::size_t i = 0; i < fig.thetas.size(); ++i) {
@@ -197,6 +207,7 @@ FigureData trajectories(const FigureSpec& fig) {
   for (const auto& c : event_columns()) cols.push_back(c);
   out.csv = csv_line(cols);
   out.extra["geometry"] = nlohmann::ordered_json::object();
+  out.extra["panels"] = value_panels(fig.thetas, "θ", "°");
   std::vector<int> runs;
   std::string measured;
   for (std::size_t i = 0; i < fig.thetas.size(); ++i) {
@@ -263,6 +274,7 @@ FigureData eigenvalue_figure(const FigureSpec& fig) {
 FigureData closed_final(const FigureSpec& fig, int threads) {
   FigureData out;
   out.csv = csv_line({"panel", "mu", "release", "state", "x1_over_L", "x2_over_L"});
+  out.extra["panels"] = value_panels(fig.mus, "μ", "");
   std::int64_t undecided = 0, asymmetric = 0, periodic = 0, rest = 0;
   std::string fractions;
   for (std::size_t i = 0; i < fig.mus.size(); ++i) {
