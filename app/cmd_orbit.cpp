@@ -13,21 +13,8 @@ namespace {
 /// One grid point of the orbit analysis.
 struct OrbitPoint {
   orbit::OrbitParams params;
-  Eigen::Vector4cd eigenvalues;
-  bool stable = false;
-  double jacobian_diff = 0.0;  // max |paper - finite differences| / max |paper|, dimensionless form
+  orbit::OrbitAnalysis analysis;
 };
-
-OrbitPoint analyse(const orbit::OrbitParams& op, double y_star) {
-  OrbitPoint pt;
-  pt.params = op;
-  pt.eigenvalues = orbit::orbit_eigenvalues(op);
-  pt.stable = orbit::is_stable(pt.eigenvalues);
-  const Eigen::Matrix4d paper = orbit::scaled_jacobian(orbit::jacobian_paper(y_star, op), y_star, op);
-  const Eigen::Matrix4d fd = orbit::scaled_jacobian(orbit::jacobian_fd(y_star, op), y_star, op);
-  pt.jacobian_diff = (paper - fd).cwiseAbs().maxCoeff() / paper.cwiseAbs().maxCoeff();
-  return pt;
-}
 
 struct OrbitCommand {
   ModelOptions model;
@@ -50,7 +37,10 @@ struct OrbitCommand {
     check_writable(out);
 
     std::vector<OrbitPoint> results;
-    for (const Params& p : points) results.push_back(analyse({p.theta, p.beta0, p.inertia, p.radius}, *ys));
+    for (const Params& p : points) {
+      const orbit::OrbitParams op{p.theta, p.beta0, p.inertia, p.radius};
+      results.push_back({op, orbit::analyse(op, *ys)});
+    }
 
     std::string text;
     if (fmt == Format::Json) {
@@ -65,11 +55,11 @@ struct OrbitCommand {
         pj["radius"] = r.params.radius;
         pj["eigenvalues"] = nlohmann::ordered_json::array();
         for (int i = 0; i < 4; ++i) {
-          const auto z = r.eigenvalues[i];
+          const auto z = r.analysis.eigenvalues[i];
           pj["eigenvalues"].push_back({{"real", z.real()}, {"imag", z.imag()}, {"modulus", std::abs(z)}});
         }
-        pj["stable"] = r.stable;
-        pj["jacobian_max_rel_diff"] = r.jacobian_diff;
+        pj["stable"] = r.analysis.stable;
+        pj["jacobian_max_rel_diff"] = r.analysis.jacobian_max_rel_diff;
         j["points"].push_back(pj);
       }
       j["provenance"] = provenance_json(command_line);
@@ -86,13 +76,13 @@ struct OrbitCommand {
         std::vector<std::string> row{number(r.params.theta_deg), number(r.params.beta0), number(r.params.kappa),
                                      number(r.params.radius)};
         for (int i = 0; i < 4; ++i) {
-          const auto z = r.eigenvalues[i];
+          const auto z = r.analysis.eigenvalues[i];
           row.push_back(number(z.real()));
           row.push_back(number(z.imag()));
           row.push_back(number(std::abs(z)));
         }
-        row.emplace_back(r.stable ? "1" : "0");
-        row.push_back(number(r.jacobian_diff));
+        row.emplace_back(r.analysis.stable ? "1" : "0");
+        row.push_back(number(r.analysis.jacobian_max_rel_diff));
         text += csv_line(row);
       }
     }

@@ -261,4 +261,14 @@ bool is_stable(const Eigen::Vector4cd& eigenvalues, double unit_tol) {
 
 bool is_stable(const OrbitParams& params) { return is_stable(orbit_eigenvalues(params)); }
 
+OrbitAnalysis analyse(const OrbitParams& params, double y_star) {
+  OrbitAnalysis a;
+  a.eigenvalues = orbit_eigenvalues(params);
+  a.stable = is_stable(a.eigenvalues);
+  const Eigen::Matrix4d paper = scaled_jacobian(jacobian_paper(y_star, params), y_star, params);
+  const Eigen::Matrix4d fd = scaled_jacobian(jacobian_fd(y_star, params), y_star, params);
+  a.jacobian_max_rel_diff = (paper - fd).cwiseAbs().maxCoeff() / paper.cwiseAbs().maxCoeff();
+  return a;
+}
+
 }  // namespace funnel::orbit

@@ -107,4 +107,14 @@ bool is_stable(const Eigen::Vector4cd& eigenvalues, double unit_tol = unit_eigen
 /// Linear stability of the period-2 orbit: is_stable(orbit_eigenvalues(params)).
 bool is_stable(const OrbitParams& params);
 
+/// What `funnel orbit` reports for one parameter set.
+struct OrbitAnalysis {
+  Eigen::Vector4cd eigenvalues;        ///< of dF/dP1 at the orbit, sorted as eigenvalues()
+  bool stable = false;                 ///< is_stable(eigenvalues)
+  double jacobian_max_rel_diff = 0.0;  ///< max |printed - finite differences| / max |printed|, scaled form
+};
+
+/// Eigenvalues, stability and the agreement of the printed Jacobian with finite differences at y*.
+OrbitAnalysis analyse(const OrbitParams& params, double y_star);
+
 }  // namespace funnel::orbit

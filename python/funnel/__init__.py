@@ -5,7 +5,9 @@ A Python front end to the C++ library, like the ``funnel`` command line:
 - :func:`simulate` — one trajectory (``funnel trajectory``), optionally with its event log;
 - :func:`ensemble` — statistics over release positions (``funnel ensemble``);
 - :func:`sweep` — one ensemble per point of a parameter grid (``funnel sweep``);
-- :func:`geometry` — the funnel's derived geometry, for plotting.
+- :func:`geometry` — the funnel's derived geometry, for plotting;
+- :func:`orbit` — eigenvalues and stability of the period-2 orbit (``funnel orbit``);
+- :func:`closed` — periodic orbit or rest in a closed funnel (``funnel closed``).
 
 Model parameters are keyword arguments named like the command-line options with '-' turned
 into '_': theta [deg], e, mu, beta0, radius, gap, inertia, t_max, max_collisions. Units:
@@ -22,10 +24,12 @@ from ._api import (
     MODEL_PARAMETERS,
     OBSERVABLES,
     STATISTICS,
+    closed,
     default_params,
     ensemble,
     geometry,
     git_commit,
+    orbit,
     simulate,
     sweep,
     valid_range,
@@ -39,13 +43,14 @@ __all__ = [
     "MODEL_PARAMETERS",
     "OBSERVABLES",
     "STATISTICS",
+    "closed",
     "default_params",
     "ensemble",
     "geometry",
     "git_commit",
+    "orbit",
     "simulate",
     "sweep",
     "valid_range",
     "version",
 ]
-# Issue 3 adds `orbit` and `closed` (periodic-orbit theory, closed funnel) to the imports above.

@@ -245,6 +245,56 @@ def git_commit():
     return _core().git_commit()
 
 
-# Issue 3: the periodic-orbit theory (`orbit`, eigenvalues of the two-collision map, paper
-# Sec. IV and Fig. 10) and the closed funnel's final states (`closed`, Figs. 11 and 12) are
-# wrapped here, over the bindings of the same names, and re-exported from __init__.py.
+def orbit(theta, beta0=0.0, inertia=0.4, radius=0.01, y_star=0.5):
+    """Eigenvalues and stability of the period-2 orbit (e = 1, sticking), like ``funnel orbit``.
+
+    Parameters
+    ----------
+    theta : float, sequence, 1-D array or "start:stop:step"
+        Wall angle(s) in degrees.
+    beta0, inertia, radius : float
+        Walton's maximum tangential restitution, I/(m a^2) and a/H.
+    y_star : float
+        Orbit height for the Jacobians (the eigenvalues do not depend on it).
+
+    Returns
+    -------
+    dict
+        theta (n,), eigenvalues (n, 4) complex128 sorted by decreasing modulus, modulus (n, 4),
+        stable (n,) bool, jacobian_max_rel_diff (n,): the largest disagreement of the paper's
+        printed Jacobian with finite differences.
+
+    Examples
+    --------
+    >>> o = funnel.orbit([44, 46], beta0=0.31)
+    >>> o["stable"]          # array([False,  True])
+    """
+    thetas = _axis_values("theta", theta)
+    return _core().orbit(thetas, _scalar("beta0", beta0), _scalar("inertia", inertia),
+                         _scalar("radius", radius), _scalar("y_star", y_star))
+
+
+def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4, max_coll=10_000_000,
+           window=20, slip_tol=1e-6, height_tol=1e-6, **model):
+    """Long-time state of every release in a closed funnel (gap 0), like ``funnel closed``.
+
+    A release is ``periodic`` once ``window`` consecutive collisions alternate walls, have
+    |slip| <= slip_tol * speed and repeat the previous height within height_tol (relative);
+    ``rest`` when it lost all its energy; ``undecided`` if max_time or max_coll came first.
+
+    Returns
+    -------
+    dict
+        params, periodic_fraction (float), state_counts {periodic, rest, undecided}, and per
+        release (n,): release (x0/L), state (str), x_last_over_L, x_prev_over_L, y_last,
+        y_prev, collisions (int64), time.
+
+    Examples
+    --------
+    >>> c = funnel.closed(theta=50, e=1, mu=0.1, samples=400)
+    >>> c["periodic_fraction"]
+    """
+    return _core().closed(_model("closed", model), _count("samples", samples), str(release_dist),
+                          _count("threads", threads), _scalar("max_time", max_time),
+                          _count("max_coll", max_coll), _count("window", window),
+                          _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol))

@@ -1,20 +1,24 @@
 // pybind11 bindings of the funnel library: parameters in as dicts, results out as dicts and numpy arrays.
 // The documented Python API is python/funnel/_api.py; this layer only converts and validates.
+#include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <charconv>
+#include <complex>
 #include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "funnel/closed.hpp"
 #include "funnel/engine.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/grid.hpp"
+#include "funnel/orbit.hpp"
 #include "funnel/params.hpp"
 #include "funnel/version.hpp"
 
@@ -342,6 +346,79 @@ std::vector<double> parse_values(const std::string& key, const std::string& text
 
 py::dict default_params() { return params_dict(funnel::default_params()); }
 
+/// Eigenvalues and stability of the period-2 orbit for each theta (paper Sec. IV, Fig. 10).
+py::dict orbit(const std::vector<double>& thetas, double beta0, double inertia, double radius, double y_star) {
+  if (!(y_star > 0.0)) throw py::value_error("invalid y-star = " + number_text(y_star) + ": valid range is y-star > 0");
+  std::vector<funnel::orbit::OrbitAnalysis> out;
+  for (const double theta : thetas) {
+    make_params({{"theta", theta}, {"beta0", beta0}, {"inertia", inertia}, {"radius", radius}});  // validates
+    out.push_back(funnel::orbit::analyse({theta, beta0, inertia, radius}, y_star));
+  }
+  const auto n = static_cast<py::ssize_t>(out.size());
+  py::array_t<std::complex<double>> eig({n, py::ssize_t{4}});
+  py::array_t<double> mod({n, py::ssize_t{4}});
+  auto e = eig.mutable_unchecked<2>();
+  auto m = mod.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    for (py::ssize_t k = 0; k < 4; ++k) {
+      e(i, k) = out[static_cast<std::size_t>(i)].eigenvalues[k];
+      m(i, k) = std::abs(e(i, k));
+    }
+  }
+  py::dict d;
+  d["theta"] = py::array_t<double>(n, thetas.data());
+  d["eigenvalues"] = eig;
+  d["modulus"] = mod;
+  d["stable"] = column<bool>(out.size(), [&](std::size_t i) { return out[i].stable; });
+  d["jacobian_max_rel_diff"] = column<double>(out.size(), [&](std::size_t i) { return out[i].jacobian_max_rel_diff; });
+  return d;
+}
+
+/// Final state of each release in a closed funnel (Figs. 11, 12).
+py::dict closed(const std::map<std::string, double>& model, std::int64_t samples, const std::string& release_dist,
+                int threads, double max_time, std::int64_t max_coll, int window, double slip_tol, double height_tol) {
+  std::map<std::string, double> m = model;
+  if (const auto it = m.find("gap"); it != m.end() && it->second != 0.0) {
+    throw py::value_error("invalid gap = " + number_text(it->second) + ": closed() needs gap = 0 (the default here)");
+  }
+  m["gap"] = 0.0;
+  const Params params = make_params(m);
+  const auto dist = funnel::parse_release_dist(release_dist);
+  if (!dist) throw py::value_error("invalid release-dist = '" + release_dist + "': valid values are line, disk");
+  if (samples < 1) throw py::value_error("invalid samples = " + std::to_string(samples) + ": valid range is samples >= 1");
+  if (!(max_time > 0.0) || max_coll < 1 || window < 1 || !(slip_tol > 0.0) || !(height_tol > 0.0)) {
+    throw py::value_error("invalid closed() options: need max_time > 0, max_coll >= 1, window >= 1, slip_tol > 0, height_tol > 0");
+  }
+  funnel::ClosedOptions opt;
+  opt.max_time = max_time;
+  opt.max_collisions = max_coll;
+  opt.window = window;
+  opt.slip_tol = slip_tol;
+  opt.height_tol = height_tol;
+  funnel::ClosedResult r;
+  {
+    py::gil_scoped_release release;
+    r = funnel::run_closed(params, {samples, *dist, threads, false}, opt);
+  }
+  const double L = funnel::make_geometry(params).half_width;
+  const std::size_t n = r.samples.size();
+  py::dict d;
+  d["params"] = params_dict(params);
+  d["periodic_fraction"] = r.periodic_fraction;
+  d["state_counts"] = py::dict(py::arg("periodic") = r.periodic, py::arg("rest") = r.rest, py::arg("undecided") = r.undecided);
+  d["release"] = column<double>(n, [&](std::size_t i) { return r.samples[i].fraction; });
+  py::list states;
+  for (const auto& s : r.samples) states.append(std::string(funnel::to_string(s.state)));
+  d["state"] = states;
+  d["x_last_over_L"] = column<double>(n, [&](std::size_t i) { return r.samples[i].x_last / L; });
+  d["x_prev_over_L"] = column<double>(n, [&](std::size_t i) { return r.samples[i].x_prev / L; });
+  d["y_last"] = column<double>(n, [&](std::size_t i) { return r.samples[i].y_last; });
+  d["y_prev"] = column<double>(n, [&](std::size_t i) { return r.samples[i].y_prev; });
+  d["collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return r.samples[i].collisions; });
+  d["time"] = column<double>(n, [&](std::size_t i) { return r.samples[i].time; });
+  return d;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_funnel, m) {
@@ -369,7 +446,7 @@ PYBIND11_MODULE(_funnel, m) {
   m.def("git_commit", [] { return std::string(funnel::git_commit()); });
   m.attr("default_samples") = funnel::default_samples;
 
-  // Issue 3 binds here `orbit` (the periodic orbit and the eigenvalues of its two-collision map,
-  // paper Sec. IV, Fig. 10) and `closed` (final state of each release in a closed funnel,
-  // Figs. 11 and 12); their wrappers go in funnel/_api.py under the same heading.
+  m.def("orbit", &orbit, py::arg("thetas"), py::arg("beta0"), py::arg("inertia"), py::arg("radius"), py::arg("y_star"));
+  m.def("closed", &closed, py::arg("model"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
+        py::arg("max_time"), py::arg("max_coll"), py::arg("window"), py::arg("slip_tol"), py::arg("height_tol"));
 }

@@ -1,0 +1,56 @@
+"""funnel.orbit and funnel.closed (paper Sec. IV, Figs. 10-12) against the command line."""
+
+import numpy as np
+import pytest
+
+import funnel
+
+
+def test_orbit_matches_cli_and_has_documented_arrays(cli):
+    py = funnel.orbit("44:46:1", beta0=0.31)
+    ref = cli("orbit", "--theta", "44:46:1", "--beta0", "0.31")
+    assert py["theta"].tolist() == [44.0, 45.0, 46.0]
+    assert py["eigenvalues"].shape == (3, 4) and py["eigenvalues"].dtype == np.complex128
+    assert py["modulus"].shape == (3, 4) and py["modulus"].dtype == np.float64
+    assert py["stable"].dtype == np.bool_
+    for i, point in enumerate(ref["points"]):
+        for k, ev in enumerate(point["eigenvalues"]):
+            assert py["eigenvalues"][i, k] == complex(ev["real"], ev["imag"])
+            assert py["modulus"][i, k] == ev["modulus"]
+        assert bool(py["stable"][i]) == point["stable"]
+        assert py["jacobian_max_rel_diff"][i] == point["jacobian_max_rel_diff"]
+
+
+def test_orbit_is_stable_exactly_above_45_degrees():
+    o = funnel.orbit(np.arange(5.0, 86.0, 1.0), beta0=0.0)
+    above = o["theta"] > 45.0
+    below = o["theta"] < 45.0
+    assert o["stable"][above].all()
+    assert not o["stable"][below].any()
+    # One eigenvalue is 1 at every angle.
+    assert np.all(np.min(np.abs(o["eigenvalues"] - 1.0), axis=1) < 1e-8)
+
+
+def test_orbit_rejects_bad_input():
+    with pytest.raises(ValueError, match="invalid theta = 95"):
+        funnel.orbit(95.0)
+    with pytest.raises(ValueError, match="y-star"):
+        funnel.orbit(60.0, y_star=-1.0)
+
+
+def test_closed_matches_cli(cli):
+    py = funnel.closed(theta=50, e=1, mu=0.1, samples=60, threads=2)
+    ref = cli("closed", "--theta", "50", "--e", "1", "--mu", "0.1", "--samples", "60", "--threads", "1")
+    assert py["periodic_fraction"] == ref["periodic_fraction"]
+    assert py["state_counts"] == ref["state_counts"]
+    assert py["state"] == ref["per_sample"]["state"]
+    assert py["x_last_over_L"].tolist() == ref["per_sample"]["x_last_over_L"]
+    assert py["collisions"].dtype == np.int64 and py["collisions"].shape == (60,)
+
+
+def test_closed_fraction_grows_with_friction_and_rejects_a_gap():
+    low = funnel.closed(theta=50, e=1, mu=0.01, samples=200)["periodic_fraction"]
+    high = funnel.closed(theta=50, e=1, mu=1.0, samples=200)["periodic_fraction"]
+    assert low < 0.6 < 0.98 < high
+    with pytest.raises(ValueError, match="gap"):
+        funnel.closed(gap=0.04, samples=10)
