@@ -1,12 +1,15 @@
 // The command line as a user meets it: bad input exits 2 naming the parameter, and writes nothing.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -205,6 +208,56 @@ TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
   // The summary table names every figure with its verdict.
   EXPECT_EQ(r.output.find(" NO "), std::string::npos) << r.output;
   expect_rejected(run("paper --quick --only fig99 --out " + path("p2")), "only", "fig99");
+}
+
+/// Starts `funnel ARGS` in the background; returns its pid.
+pid_t spawn(const std::string& args) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string cmd = "exec " + std::string(FUNNEL_BINARY) + " " + args + " > /dev/null 2>&1";
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+/// Complete data lines (after the spec and header lines) of a partial sweep file.
+int partial_rows(const std::string& text) {
+  int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  return lines - 2;
+}
+
+TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
+  const std::string grid = "sweep --theta 5:85:1 --samples 4000 --threads 2 --out ";
+  ASSERT_EQ(run(grid + path("full.csv")).code, 0);
+  // Interrupt twice (Ctrl-C, then kill -9) once a few points are in, then resume to the end.
+  int resumed_from = 0;
+  for (const int sig : {SIGINT, SIGKILL}) {
+    const pid_t pid = spawn(grid + path("cut.csv") + (sig == SIGKILL ? " --resume" : ""));
+    bool killed = false;
+    for (int i = 0; i < 2000 && !killed; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      if (partial_rows(read("cut.csv.partial")) >= resumed_from + 3) killed = kill(pid, sig) == 0;
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(killed) << "the sweep ended before it could be interrupted";
+    EXPECT_TRUE(WIFSIGNALED(status));
+    EXPECT_FALSE(fs::exists(path("cut.csv")));  // no final file from an interrupted run
+    const std::string partial = read("cut.csv.partial");
+    EXPECT_EQ(partial.rfind("# funnel sweep spec: ", 0), 0u);
+    EXPECT_GE(partial_rows(partial), resumed_from + 3);
+    resumed_from = partial_rows(partial);
+  }
+  const Result r = run(grid + path("cut.csv") + " --resume");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming"), std::string::npos) << r.output;
+  EXPECT_EQ(read("cut.csv"), read("full.csv"));
+  EXPECT_FALSE(fs::exists(path("cut.csv.partial")));
+  EXPECT_NE(read("cut.csv.json").find("\"resumed_points\""), std::string::npos);
+  // A partial file of another sweep is refused, not mixed in.
+  write("other.csv.partial", "# funnel sweep spec: {}\npoint,theta\n");
+  expect_rejected(run("sweep --theta 40 --samples 10 --resume --out " + path("other.csv")), "resume", "different sweep");
 }
 
 }  // namespace
