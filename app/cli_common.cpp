@@ -83,6 +83,15 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
       throw UsageError("invalid " + name + " = '" + it->second + "': " + reason + "; valid range is " +
                        std::string(valid_range(name)));
     }
+    // expand_grid ignores a value set_parameter refuses: a non-integral max-collisions (1.5)
+    // silently ran with the default instead (found writing fuzz/fuzz_parse).
+    for (const double v : *values) {
+      Params probe = default_params();
+      if (!set_parameter(probe, name, v)) {
+        throw UsageError("invalid " + name + " = '" + it->second + "': " + number(v) +
+                         " is not an integer; valid range is " + std::string(valid_range(name)));
+      }
+    }
     axes.push_back({name, std::move(*values)});
   }
   return axes;
@@ -134,6 +143,11 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
   o.dist = to_release_dist(text.release_dist);
   o.threads = to_threads(text.threads);
   return o;
+}
+
+void add_output_options(CLI::App& app, std::string& format, std::string& out) {
+  app.add_option("--format", format, "output format: json or csv (default json)")->type_name("FMT");
+  app.add_option("--out", out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
 }
 
 Format to_format(const std::string& text) {

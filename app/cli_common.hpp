@@ -61,6 +61,9 @@ void write_output(const std::string& path, const std::string& content);
 /// Checks before any work that `path` can be written (its directory exists); throws UsageError.
 void check_writable(const std::string& path);
 
+/// Adds --format (json or csv, default json) and --out (default '-': standard output).
+void add_output_options(CLI::App& app, std::string& format, std::string& out);
+
 /// Output format of a command.
 enum class Format { Json, Csv };
 /// Parses "json" or "csv"; throws UsageError.

@@ -108,8 +108,7 @@ void add_closed_command(CLI::App& app, const std::string& command_line) {
   sub->add_option("--slip-tol", cmd->slip_tol, "periodic test: |slip before| <= tol * speed; > 0 (default 1e-6)")->type_name("TOL");
   sub->add_option("--height-tol", cmd->height_tol,
                   "periodic test: |y_k - y_(k-1)| <= tol * |y_k|; > 0 (default 1e-6)")->type_name("TOL");
-  sub->add_option("--format", cmd->format, "output format: json or csv (default json)")->type_name("FMT");
-  sub->add_option("--out", cmd->out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
+  add_output_options(*sub, cmd->format, cmd->out);
   sub->callback([cmd] { cmd->run(); });
 }
 

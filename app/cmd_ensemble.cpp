@@ -80,8 +80,7 @@ void add_ensemble_command(CLI::App& app, const std::string& command_line) {
   add_ensemble_options(*sub, cmd->ens);
   sub->add_flag("--per-sample", cmd->per_sample,
                 "also output every trajectory (JSON key 'per_sample'; with csv, one row per sample instead of the summary)");
-  sub->add_option("--format", cmd->format, "output format: json or csv (default json)")->type_name("FMT");
-  sub->add_option("--out", cmd->out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
+  add_output_options(*sub, cmd->format, cmd->out);
   sub->callback([cmd] { cmd->run(); });
 }
 

@@ -101,8 +101,7 @@ void add_orbit_command(CLI::App& app, const std::string& command_line) {
   sub->add_option("--y-star", cmd->y_star,
                   "orbit height y* for the Jacobians (the eigenvalues do not depend on it); > 0 (default 0.5)")
       ->type_name("Y");
-  sub->add_option("--format", cmd->format, "output format: json or csv (default json)")->type_name("FMT");
-  sub->add_option("--out", cmd->out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
+  add_output_options(*sub, cmd->format, cmd->out);
   sub->callback([cmd] { cmd->run(); });
 }
 

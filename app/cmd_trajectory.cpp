@@ -70,8 +70,7 @@ void add_trajectory_command(CLI::App& app, const std::string& command_line) {
   add_model_options(*sub, cmd->model, false);
   sub->add_option("--release", cmd->release, "release position X = x0/L; -1 < X < 1")->required()->type_name("X");
   sub->add_flag("--events", cmd->events, "include the event log (JSON key 'events'; with csv, one row per event)");
-  sub->add_option("--format", cmd->format, "output format: json or csv (default json)")->type_name("FMT");
-  sub->add_option("--out", cmd->out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
+  add_output_options(*sub, cmd->format, cmd->out);
   sub->callback([cmd] { cmd->run(); });
 }
 
