@@ -73,7 +73,11 @@ class Run {
       time_ += ev.dt;
       stalled = time_ > before ? 0 : stalled + 1;
       if (stalled > max_stalled_events) {
-        end(Status::Trapped, time_);
+        // In a closed funnel collisions pile up in no time only where the faces meet: they have
+        // collapsed onto the vertex (a wedge collapse; beta0 = 1 keeps the spin's energy above
+        // eps_rest), which is rest (found by fuzz/fuzz_physics). Elsewhere it is the Zeno guard.
+        out_.stalled = !g_.closed;
+        end(g_.closed ? Status::Rest : Status::Trapped, time_);
         return;
       }
       switch (ev.kind) {
@@ -159,9 +163,11 @@ class Run {
     const Vec2 n = (1.0 / dist) * d;
     state_.r = e + g_.radius * n;  // exactly on the edge circle
     ++out_.edge_collisions;
-    apply_collision(EventKind::Edge, wall, n);
+    const Collision c = apply_collision(EventKind::Edge, wall, n);
     FlightStart start;
     start.on_edge = wall;
+    // A normal speed below p_c is taken as 0 by the next edge search (flight.cpp, edge_time).
+    if (c.p_after < params_.p_c) start.slow_edge = wall;
     return start;
   }
 

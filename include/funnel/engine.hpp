@@ -72,6 +72,7 @@ struct Trajectory {
   std::int64_t contacts = 0;        ///< sustained contacts (collapses)
   double contact_time = 0.0;        ///< total time in sustained contact
   bool stopped = false;             ///< ended early by EventSink::finished() (status Trapped)
+  bool stalled = false;             ///< ended by the Zeno guard in an open funnel (status Trapped); never expected
   State final_state;                ///< state when the run ended
 };
 

@@ -16,6 +16,7 @@ struct FlightStart {
   std::optional<Wall> on_face;       ///< centre exactly on this wall's centre line (after a face collision)
   std::optional<Wall> on_edge;       ///< centre exactly on this wall's edge circle (after an edge collision)
   std::optional<Wall> left_contact;  ///< left a sustained contact at this wall's C*: skip face and edge
+  std::optional<Wall> slow_edge;     ///< on_edge, and the normal speed it left is below p_c: taken as 0
 };
 
 /// The earliest event of a free flight.
