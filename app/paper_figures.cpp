@@ -108,19 +108,21 @@ nlohmann::ordered_json check_sweep(const FigureSpec& fig, const SweepCache& cach
                        " for " + fig.series + " = " + series + ", " + fmt(r_lo, 3) + " for " + fig.series + " = " + low,
                    r_hi > 1.5 * r_lo);
   }
-  if (type == "fraction_above_45") {
-    const double at45 = sweep_value(fig, cache, series, 45.0, obs);
+  if (type == "fraction_above_reference") {
+    const double ref_theta = check_number(fig, "reference", 44.0);
+    const double ref = sweep_value(fig, cache, series, ref_theta, obs);
     int count = 0, larger = 0;
-    for (const double theta : fig.grid.front().values) {
+    const auto axis = std::find_if(fig.grid.begin(), fig.grid.end(), [](const Axis& a) { return a.name == "theta"; });
+    for (const double theta : axis == fig.grid.end() ? std::vector<double>{} : axis->values) {
       if (theta <= 45.0) continue;
       ++count;
-      larger += sweep_value(fig, cache, series, theta, obs) > at45;
+      larger += sweep_value(fig, cache, series, theta, obs) > ref;
     }
     const double frac = count > 0 ? static_cast<double>(larger) / count : 0.0;
     return verdict(claim_of(fig),
-                   fmt(100.0 * frac, 3) + "% of the angles above 45° have a larger mean " + obs + " than 45° (" +
-                       fig.series + " = " + series + ")",
-                   frac <= check_number(fig, "max_fraction", 0.5));
+                   fmt(100.0 * frac, 3) + "% of the angles above 45° have a larger mean " + obs + " than " +
+                       fmt(ref_theta) + "° (" + fig.series + " = " + series + ")",
+                   count > 0 && frac <= check_number(fig, "max_fraction", 0.5));
   }
   return verdict(claim_of(fig), "no check defined", false);
 }

@@ -33,6 +33,13 @@ Result run(const std::string& args) {
   return r;
 }
 
+std::string read_source(const std::string& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -258,6 +265,20 @@ TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
   // A partial file of another sweep is refused, not mixed in.
   write("other.csv.partial", "# funnel sweep spec: {}\npoint,theta\n");
   expect_rejected(run("sweep --theta 40 --samples 10 --resume --out " + path("other.csv")), "resume", "different sweep");
+}
+
+TEST_F(Cli, PaperChecksCanFail) {
+  // Fig. 2's check (narrow peaks only) applied to a frictional particle, where almost every
+  // angle above 45 degrees holds the particle longer than 44 degrees: it must say so.
+  fs::create_directories(path("defs"));
+  std::string fig = read_source(FUNNEL_SOURCE_DIR "/paper/fig02.toml");
+  const auto at = fig.find("mu = 0\n");
+  ASSERT_NE(at, std::string::npos);
+  fig.replace(at, 7, "mu = 1\n");
+  write("defs/fig02.toml", fig);
+  const Result r = run("paper --quick --no-plots --paper-dir " + path("defs") + " --out " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(read("p/fig02/fig02.json").find("\"holds\": false"), std::string::npos);
 }
 
 }  // namespace
