@@ -8,22 +8,35 @@
 
 namespace funnel {
 
+namespace {
+
+/// How far up the face from C* the foot of the perpendicular from r lies (>= 0: on the wall).
+/// Measured along the face, not by height: for nearly flat walls C* is within rounding of the
+/// vertex's height (y_face_end = 2e-22 at theta = 1.7e-14 degrees), and a height test took
+/// contacts over the gap for face contacts and let the particle fall through the faces
+/// (found by fuzz/fuzz_physics). On the centre line it equals the height test.
+double up_face(const Geometry& g, Wall wall, Vec2 r) {
+  const double ws = wall_sign(wall);
+  return ws * g.cos_t * (r.x - ws * g.x_face_end) + g.sin_t * (r.y - g.y_face_end);
+}
+
+}  // namespace
+
 double face_time(const Geometry& g, const State& s, Wall wall, const FlightStart& start) {
   if (start.left_contact == wall) return never;  // tangent at C*: a zero-time hit otherwise (Zeno)
   const Vec2 n = face_normal(g, wall);
   const double p = dot(s.v, n);
   // Right after a collision with this face the distance is exactly 0 and the return time 2p/cos.
   double delta0 = start.on_face == wall ? 0.0 : face_distance(g, wall, s.r);
-  // At or above C* (y_face_end > 0), or anywhere in a closed funnel, a centre behind the centre
-  // line would be inside the wall: a negative distance there is rounding, and the contact is
-  // now. Without this a release within ~1e-16 of the wall (|x0/L| = 1 - 2^-53) fell through
-  // it (found by fuzz/fuzz_physics).
-  if (delta0 < 0.0 && (g.closed || s.r.y >= g.y_face_end)) delta0 = 0.0;
+  // Up the face from C*, or anywhere in a closed funnel, a centre behind the centre line would
+  // be inside the wall: a negative distance there is rounding, and the contact is now. Without
+  // this a release within ~1e-16 of the wall (|x0/L| = 1 - 2^-53) fell through it (found by
+  // fuzz/fuzz_physics).
+  if (delta0 < 0.0 && (g.closed || up_face(g, wall, s.r) >= 0.0)) delta0 = 0.0;
   const double t = line_arrival_time(delta0, p, g.cos_t);
   if (t == never || g.closed) return t;
-  // A face contact needs the foot of the perpendicular on the wall: the centre above C*.
-  const double y = s.r.y + s.v.y * t - 0.5 * t * t;
-  return y >= g.y_face_end ? t : never;
+  // A face contact needs the foot of the perpendicular on the wall: up the face from C*.
+  return up_face(g, wall, advance(s, t).r) >= 0.0 ? t : never;
 }
 
 double edge_time(const Geometry& g, const State& s, Wall wall, const FlightStart& start, double t_limit) {
@@ -82,9 +95,13 @@ NextEvent next_event(const Geometry& g, const State& s, const FlightStart& start
   if (ev.dt != never && (g.closed || s.r.y > g.y_face_end)) return ev;
   const double t_exit = exit_time(g, s);
   if (t_exit <= ev.dt) ev = {EventKind::Exit, Wall::Left, t_exit};
+  // Edges are searched only up to the earliest face or exit event, both over that same window:
+  // the last bits of a refined root depend on the window's end, and a mirror-image state must
+  // give the mirror-image event (found by fuzz/fuzz_physics: with both edges in reach, the
+  // right edge's window used to end at the left edge's time).
+  const double window = ev.dt;
   for (const Wall wall : {Wall::Left, Wall::Right}) {
-    // Edges are searched only up to the earliest other event.
-    const double t = edge_time(g, s, wall, start, ev.dt);
+    const double t = edge_time(g, s, wall, start, window);
     if (t < ev.dt) ev = {EventKind::Edge, wall, t};
   }
   return ev;

@@ -1,0 +1,246 @@
+// libFuzzer target: Walton's collision law and whole trajectories over the valid parameter space.
+//
+// The fuzz bytes are mapped into valid ranges (MODEL.md §1), with extra weight on the ends of
+// each range. Invariants checked (any violation aborts, which libFuzzer reports as a crash):
+//  - collide: finite output; kinetic energy never increases; the closed-form energy loss equals
+//    the loss computed from the states; |J_t| <= mu J_N; sliding has |J_t| = mu J_N; sticking
+//    gives s' = -beta0 s.
+//  - simulate_release (max 20000 collisions, t_max <= 1e3): finite observables; a valid status;
+//    energy never increases; E_0 - E_end equals the sum of the events' losses; the final state
+//    is inside the funnel (above both centre lines when above the face ends, on y_b when exited,
+//    between the edges); the Zeno guard never fires; the mirror release gives the mirror result
+//    bit for bit (line ensembles rely on it).
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+
+#include "funnel/engine.hpp"
+#include "funnel/geometry.hpp"
+#include "funnel/params.hpp"
+#include "funnel/walton.hpp"
+
+namespace {
+
+using funnel::Collision;
+using funnel::Geometry;
+using funnel::Material;
+using funnel::Params;
+using funnel::State;
+using funnel::Status;
+using funnel::Trajectory;
+using funnel::Vec2;
+
+/// What the current input is (printed with a failure, so a crash can be reproduced by hand).
+char context[512] = "";
+
+/// Aborts with a message: libFuzzer records the input as a crash.
+[[noreturn]] void fail(const char* what, double a = 0.0, double b = 0.0) {
+  std::fprintf(stderr, "fuzz_physics: invariant violated: %s (%.17g, %.17g)\n  %s\n", what, a, b, context);
+  std::abort();
+}
+
+void require(bool ok, const char* what, double a = 0.0, double b = 0.0) {
+  if (!ok) fail(what, a, b);
+}
+
+double uniform(FuzzedDataProvider& f, double lo, double hi) {
+  return lo + (hi - lo) * f.ConsumeProbability<double>();
+}
+
+/// 10^u with u uniform in [lo, hi].
+double log_uniform(FuzzedDataProvider& f, double lo, double hi) { return std::pow(10.0, uniform(f, lo, hi)); }
+
+double pick_theta(FuzzedDataProvider& f) {
+  switch (f.ConsumeIntegralInRange<int>(0, 3)) {
+    case 0: return 90.0 * f.ConsumeProbability<double>();           // may hit 0 or 90: rejected
+    case 1: return log_uniform(f, -310.0, 1.0);                      // nearly flat walls
+    case 2: return 90.0 - log_uniform(f, -15.0, 1.0);                // nearly vertical walls
+    default: return 45.0 + (f.ConsumeBool() ? 1.0 : -1.0) * log_uniform(f, -16.0, 0.0);  // the 45° threshold
+  }
+}
+
+double pick_e(FuzzedDataProvider& f) {
+  switch (f.ConsumeIntegralInRange<int>(0, 2)) {
+    case 0: return f.ConsumeProbability<double>();
+    case 1: return 1.0 - log_uniform(f, -17.0, 0.0);  // nearly elastic
+    default: return f.ConsumeBool() ? 0.0 : 1.0;
+  }
+}
+
+double pick_mu(FuzzedDataProvider& f) {
+  switch (f.ConsumeIntegralInRange<int>(0, 2)) {
+    case 0: return 0.0;
+    case 1: return log_uniform(f, -8.0, 6.0);  // up to 1e6
+    default: return uniform(f, 0.0, 2.0);
+  }
+}
+
+double pick_beta0(FuzzedDataProvider& f) {
+  switch (f.ConsumeIntegralInRange<int>(0, 1)) {
+    case 0: return uniform(f, -1.0, 1.0);
+    default: return static_cast<double>(f.ConsumeIntegralInRange<int>(-1, 1));
+  }
+}
+
+Material pick_material(FuzzedDataProvider& f) {
+  Material m;
+  m.e = pick_e(f);
+  m.mu = pick_mu(f);
+  m.beta0 = pick_beta0(f);
+  m.kappa = log_uniform(f, -3.0, 3.0);
+  m.radius = log_uniform(f, -6.0, -1e-9);
+  return m;
+}
+
+double kinetic(const State& s, const Material& m) {
+  return 0.5 * funnel::dot(s.v, s.v) + 0.5 * m.kappa * m.radius * m.radius * s.omega * s.omega;
+}
+
+bool finite(const State& s) {
+  return std::isfinite(s.r.x) && std::isfinite(s.r.y) && std::isfinite(s.v.x) && std::isfinite(s.v.y) &&
+         std::isfinite(s.omega);
+}
+
+/// One collision with an arbitrary finite state and unit normal.
+void check_collision(FuzzedDataProvider& f) {
+  const Material m = pick_material(f);
+  std::snprintf(context, sizeof context, "collide: e=%.17g mu=%.17g beta0=%.17g kappa=%.17g radius=%.17g", m.e, m.mu,
+                m.beta0, m.kappa, m.radius);
+  const double speed = log_uniform(f, -12.0, 6.0);
+  State s;
+  s.v = {speed * uniform(f, -1.0, 1.0), speed * uniform(f, -1.0, 1.0)};
+  s.omega = speed * uniform(f, -1.0, 1.0) / m.radius;  // a omega comparable to the speed
+  const double phi = uniform(f, 0.0, 2.0 * 3.141592653589793);
+  const Vec2 n{std::cos(phi), std::sin(phi)};
+
+  const Collision c = funnel::collide(s, n, m);
+  require(finite(c.after) && std::isfinite(c.j_n) && std::isfinite(c.j_t) && std::isfinite(c.energy_lost),
+          "collide: non-finite output");
+  const double k0 = kinetic(s, m);
+  const double k1 = kinetic(c.after, m);
+  require(k1 <= k0 * (1.0 + 1e-12), "collide: kinetic energy increased", k0, k1);
+  require(std::fabs(c.energy_lost - (k0 - k1)) <= 1e-9 * k0, "collide: closed-form loss != state loss",
+          c.energy_lost, k0 - k1);
+  require(c.j_n >= 0.0, "collide: negative normal impulse", c.j_n);
+  require(std::fabs(c.j_t) <= m.mu * c.j_n * (1.0 + 1e-12), "collide: tangential impulse outside the Coulomb cone",
+          c.j_t, m.mu * c.j_n);
+  const Vec2 t{n.y, -n.x};
+  const double slip_after = funnel::dot(c.after.v, t) + m.radius * c.after.omega;
+  const double scale = std::fabs(c.q) + std::fabs(m.radius * s.omega) + std::fabs(c.p);
+  if (c.regime == funnel::Regime::Sliding) {
+    require(std::fabs(std::fabs(c.j_t) - m.mu * c.j_n) <= 1e-12 * m.mu * c.j_n, "collide: sliding |J_t| != mu J_N");
+  } else {
+    require(std::fabs(slip_after + m.beta0 * c.slip) <= 1e-9 * scale, "collide: sticking s' != -beta0 s",
+            slip_after, c.slip);
+  }
+}
+
+/// Valid parameters from the fuzz bytes, or false when validate() rejects them.
+bool pick_params(FuzzedDataProvider& f, Params& p) {
+  p = funnel::default_params();
+  p.theta = pick_theta(f);
+  p.e = pick_e(f);
+  p.mu = pick_mu(f);
+  p.beta0 = pick_beta0(f);
+  p.inertia = log_uniform(f, -3.0, 3.0);
+  p.radius = log_uniform(f, -6.0, 0.0);  // 1 itself is rejected
+  p.gap = f.ConsumeBool() ? 0.0 : 2.0 * p.radius * (1.0 + log_uniform(f, -12.0, 4.0));
+  p.t_max = log_uniform(f, -3.0, 3.0);
+  p.max_collisions = f.ConsumeIntegralInRange<std::int64_t>(1, 20000);
+  return !funnel::validate(p);
+}
+
+void check_trajectory(const Params& p, const Geometry& g, const Trajectory& t) {
+  require(t.status == Status::Exited || t.status == Status::Rest || t.status == Status::Trapped, "bad status");
+  require(std::isfinite(t.duration) && std::isfinite(t.impulse) && std::isfinite(t.normal_impulse) &&
+              std::isfinite(t.energy_loss) && std::isfinite(t.energy_loss_events) &&
+              std::isfinite(t.contact_time) && finite(t.final_state),
+          "non-finite observable or final state");
+  require(t.duration >= 0.0 && t.duration <= p.t_max, "duration outside [0, t_max]", t.duration, p.t_max);
+  require(t.contact_time >= 0.0 && t.contact_time <= t.duration * (1.0 + 1e-12) + 1e-300,
+          "contact time outside [0, duration]", t.contact_time, t.duration);
+  require(t.collisions >= 0 && t.collisions <= p.max_collisions && t.edge_collisions >= 0 &&
+              t.edge_collisions <= t.collisions && t.contacts >= 0 && t.contacts <= t.collisions,
+          "collision counts inconsistent");
+  require(t.normal_impulse >= 0.0 && t.impulse >= t.normal_impulse * (1.0 - 1e-12), "impulses inconsistent",
+          t.impulse, t.normal_impulse);
+  if (g.closed) require(t.status != Status::Exited, "closed funnel exited");
+  if (!g.closed) require(t.status != Status::Rest, "open funnel at rest");
+  // The Zeno guard should never fire (in a closed funnel a pile-up of events at the vertex is
+  // rest); trapped is otherwise the time or the collision cap. The exception is a resolution
+  // limit, not a bug: in a slot a few ulps of the clock wider than the sphere (d - 2a below
+  // ~1e-12, e.g. d = 2a (1 + 1e-12) with a = 1e-6) it bounces between the edges faster than
+  // the clock (|t| ~ 1, ulp 2e-16) can tell the collisions apart.
+  const double slot = g.half_gap - g.radius;
+  require(!t.stalled || slot < 1e-12 * std::fmax(1.0, t.duration), "Zeno guard fired", t.duration, slot);
+  if (t.status == Status::Trapped && !t.stalled) {
+    require(t.duration == p.t_max || t.collisions == p.max_collisions, "trapped before the caps", t.duration,
+            static_cast<double>(t.collisions));
+  }
+
+  // Energies are of order max(1, |y|): the potential energy is measured from the vertex.
+  const double scale = std::fmax(1.0, std::fmax(std::fabs(g.y_bottom), std::fabs(g.y_release)));
+  require(t.energy_loss >= -1e-9 * scale, "energy increased", t.energy_loss, scale);
+  require(std::fabs(t.energy_loss - t.energy_loss_events) <= 1e-9 * scale,
+          "energy loss != sum of the events' losses", t.energy_loss, t.energy_loss_events);
+
+  const State& s = t.final_state;
+  const double tol = 1e-9 * std::fmax(scale, g.half_width);
+  require(s.r.y <= g.y_release + tol, "final state above the release height", s.r.y, g.y_release);
+  if (t.status == Status::Exited) {
+    require(s.r.y == g.y_bottom, "exited off the exit level", s.r.y, g.y_bottom);
+    // Between the edges, except that a particle left with a normal speed below p_c on an edge
+    // (and |v|^2 < a) flies through the corner it would roll over (MODEL.md, Edges): by at most
+    // |v| (|v| + sqrt(|v|^2 + 2a)) < 3a beyond the edge point.
+    require(std::fabs(s.r.x) <= g.half_gap + 3.0 * g.radius, "exited outside the gap", s.r.x, g.half_gap);
+  } else if (t.status == Status::Rest) {
+    // At the vertex: exactly after a sustained contact, else within the energy eps_rest above it.
+    require(s.r.y >= -tol && s.r.y <= p.eps_rest + tol, "rest away from the vertex", s.r.x, s.r.y);
+  } else if (g.closed || s.r.y >= g.y_face_end) {
+    for (const funnel::Wall wall : {funnel::Wall::Left, funnel::Wall::Right}) {
+      require(funnel::face_distance(g, wall, s.r) >= -tol, "final state behind a centre line", s.r.x, s.r.y);
+    }
+  } else {
+    require(s.r.y >= g.y_bottom - tol && std::fabs(s.r.x) <= g.half_gap + 3.0 * g.radius, "final state outside the throat",
+            s.r.x, s.r.y);
+  }
+}
+
+void check_mirror(const Trajectory& a, const Trajectory& b) {
+  require(a.status == b.status && a.duration == b.duration && a.impulse == b.impulse &&
+              a.normal_impulse == b.normal_impulse && a.energy_loss == b.energy_loss &&
+              a.collisions == b.collisions && a.edge_collisions == b.edge_collisions &&
+              a.contacts == b.contacts && a.contact_time == b.contact_time,
+          "mirror release gives a different result", a.duration, b.duration);
+  require(a.final_state.r.x == -b.final_state.r.x && a.final_state.r.y == b.final_state.r.y &&
+              a.final_state.v.x == -b.final_state.v.x && a.final_state.v.y == b.final_state.v.y &&
+              a.final_state.omega == -b.final_state.omega,
+          "mirror release ends in a non-mirror state", a.final_state.r.x, b.final_state.r.x);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  FuzzedDataProvider f(data, size);
+  check_collision(f);
+
+  Params p;
+  if (!pick_params(f, p)) return 0;
+  const double fraction = f.ConsumeBool() ? uniform(f, -1.0, 1.0)
+                                          : (f.ConsumeBool() ? 1.0 : -1.0) * (1.0 - log_uniform(f, -16.0, 0.0));
+  if (!(fraction > -1.0 && fraction < 1.0)) return 0;
+  std::snprintf(context, sizeof context,
+                "--theta %.17g --e %.17g --mu %.17g --beta0 %.17g --inertia %.17g --radius %.17g --gap %.17g "
+                "--t-max %.17g --max-collisions %lld --release %.17g",
+                p.theta, p.e, p.mu, p.beta0, p.inertia, p.radius, p.gap, p.t_max,
+                static_cast<long long>(p.max_collisions), fraction);
+  const Geometry g = funnel::make_geometry(p);
+  const Trajectory t = funnel::simulate_release(p, g, fraction);
+  check_trajectory(p, g, t);
+  // A release on the axis is its own mirror image; a tie between the walls goes to the left one.
+  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(p, g, -fraction));
+  return 0;
+}
