@@ -100,7 +100,6 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
 void validate_all(const std::vector<Params>& points) {
   for (const Params& p : points) {
     if (const auto err = validate(p)) throw UsageError(err->message());
-    if (p.max_collisions < 1) throw UsageError("invalid max-collisions");
   }
 }
 

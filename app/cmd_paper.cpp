@@ -99,7 +99,6 @@ struct PaperCommand {
     std::vector<FigureSpec> figs = load_figures(paper_dir, quick);
     if (!only.empty()) {
       std::set<std::string> wanted;
-      std::string reason;
       for (std::size_t pos = 0; pos <= only.size();) {
         const std::size_t comma = std::min(only.find(',', pos), only.size());
         wanted.insert(only.substr(pos, comma - pos));

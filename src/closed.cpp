@@ -37,7 +37,6 @@ class OrbitWatch final : public EventSink {
     prev_ = last_;
     last_ = e.position;
     if (e.wall) last_wall_ = *e.wall;
-    have_prev_ = have_last_;
     have_last_ = true;
   }
 
@@ -49,7 +48,7 @@ class OrbitWatch final : public EventSink {
  private:
   const ClosedOptions& opt_;
   int streak_ = 0;
-  bool have_last_ = false, have_prev_ = false;
+  bool have_last_ = false;
   Wall last_wall_ = Wall::Left;
   Vec2 last_, prev_;
 };

@@ -54,7 +54,6 @@ ContactResult slide_to_end(const State& start, Wall wall, const Geometry& g, con
   double remaining = (start.r.y - g.y_face_end) / g.sin_t;
 
   ContactResult res;
-  double along = 0.0;  // distance travelled down the face
   const double c_cos = g.cos_t;
   auto run_phase = [&](const Phase& ph, double t_limit) {
     // First time the end is reached in this phase: w t + accel t^2/2 = remaining.
@@ -66,7 +65,6 @@ ContactResult slide_to_end(const State& start, Wall wall, const Geometry& g, con
     res.impulse += std::hypot(c_cos, ph.force) * dt;
     res.tangential_impulse += -ws * ph.force * dt;  // down-slope is -ws times the wall tangent t
     res.energy_lost += -ph.force * (slip * dt + 0.5 * ph.slip_rate * dt * dt);
-    along += ds;
     remaining -= ds;
     w += ph.accel * dt;
     spin += ph.force / (m.kappa * m.radius) * dt;

@@ -64,15 +64,10 @@ double edge_time(const Geometry& g, const State& s, Wall wall, const FlightStart
   c[4] = 0.25;
   const double t = first_descending_root(c, t_limit);
   if (t == never) return never;
-  // Valid only on the edge side of C*: (r - C*) . down >= 0 with `down` the down-slope
-  // direction of the face. A first approach from the other side would come from behind the
-  // wall, which the particle cannot reach; a hit within rounding of C* is the same contact
-  // as the face's and is accepted.
-  const double ws = wall_sign(wall);
-  const Vec2 at = advance(s, t).r;
-  const Vec2 from_end{at.x - ws * g.x_face_end, at.y - g.y_face_end};
-  const double along = -ws * g.cos_t * from_end.x - g.sin_t * from_end.y;
-  return along >= -1e-9 * g.radius ? t : never;
+  // Valid only on the edge side of C* (not up the face from it). A first approach from the
+  // other side would come from behind the wall, which the particle cannot reach; a hit within
+  // rounding of C* is the same contact as the face's and is accepted.
+  return up_face(g, wall, advance(s, t).r) <= 1e-9 * g.radius ? t : never;
 }
 
 double exit_time(const Geometry& g, const State& s) {
