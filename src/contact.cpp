@@ -56,9 +56,13 @@ ContactResult slide_to_end(const State& start, Wall wall, const Geometry& g, con
   ContactResult res;
   const double c_cos = g.cos_t;
   auto run_phase = [&](const Phase& ph, double t_limit) {
-    // First time the end is reached in this phase: w t + accel t^2/2 = remaining.
-    const double t_end = first_positive_root(0.5 * ph.accel, w, -remaining);
-    const double dt = remaining <= 0.0 ? 0.0 : std::fmin(t_end, t_limit);
+    // First time the end is reached in this phase: w t + accel t^2/2 = remaining. At the end
+    // already: done if moving down; moving up (handed over by the edge), it comes back later.
+    const double t_end = remaining > 0.0 ? first_positive_root(0.5 * ph.accel, w, -remaining)
+                         : w >= 0.0      ? 0.0
+                                         : first_positive_root(0.5 * ph.accel, w, 0.0);
+    const double dt = std::fmin(t_end, t_limit);
+    res.phases[res.phase_count++] = {remaining, w, ph.accel, ph.force, dt};
     const double ds = w * dt + 0.5 * ph.accel * dt * dt;
     res.duration += dt;
     res.normal_impulse += c_cos * dt;

@@ -2,8 +2,11 @@
 #include "funnel/engine.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include "funnel/contact.hpp"
+#include "funnel/edge_contact.hpp"
+#include "funnel/wear.hpp"
 #include "funnel/roots.hpp"
 
 namespace funnel {
@@ -24,6 +27,8 @@ std::string_view to_string(EventKind kind) {
     case EventKind::ContactStart: return "contact_start";
     case EventKind::ContactEnd: return "contact_end";
     case EventKind::Exit: return "exit";
+    case EventKind::EdgeContactStart: return "edge_contact_start";
+    case EventKind::EdgeContactEnd: return "edge_contact_end";
   }
   return "?";
 }
@@ -42,12 +47,32 @@ std::string_view to_string(Regime regime) {
 
 namespace {
 
+/// The mirror image x -> -x of a state: the right wall's edge contacts are solved as the left
+/// wall's, so that the engine stays exactly mirror symmetric.
+State mirror(const State& s) {
+  State m = s;
+  m.r.x = -s.r.x;
+  m.v.x = -s.v.x;
+  m.omega = -s.omega;
+  return m;
+}
+
+/// Hand-overs between a face and its edge within one sustained contact after which the run is
+/// stopped as trapped: a guard that no physical contact reaches (each hand-over back to the
+/// face needs friction to reverse the motion on the edge, which dissipates energy).
+constexpr int max_hand_overs = 1000;
+
 /// The running trajectory: state, clock, observables and the optional log.
 class Run {
  public:
-  Run(const Params& params, const Geometry& g, const State& initial, EventSink* sink)
-      : params_(params), g_(g), mat_(material(params)), law_(collision_constants(mat_)), sink_(sink), state_(initial) {
+  Run(const Params& params, const Geometry& g, const State& initial, EventSink* sink, Wear* wear)
+      : params_(params), g_(g), mat_(material(params)), law_(collision_constants(mat_)), sink_(sink), wear_(wear),
+        state_(initial) {
     e0_ = energy(initial, mat_.kappa, mat_.radius);
+    // The left edge's arc of contact normals, from the face's normal n_L down to the wall's
+    // underside; the right edge is solved in the mirror image.
+    const double top = std::atan2(g_.cos_t, g_.sin_t);
+    left_arc_ = {edge_point(g_, Wall::Left), top - std::numbers::pi, top};
   }
 
   Trajectory finish() {
@@ -83,6 +108,7 @@ class Run {
       switch (ev.kind) {
         case EventKind::Exit:
           state_.r.y = g_.y_bottom;
+          out_.exit_state = state_;
           log_simple(EventKind::Exit, std::nullopt);
           end(Status::Exited, time_);
           return;
@@ -122,9 +148,17 @@ class Run {
   Collision apply_collision(EventKind kind, Wall wall, Vec2 n) {
     const Collision c = collide(state_, n, law_);
     ++out_.collisions;
-    out_.impulse += std::sqrt(c.j_n * c.j_n + c.j_t * c.j_t);
+    const double j = std::sqrt(c.j_n * c.j_n + c.j_t * c.j_t);
+    out_.impulse += j;
     out_.normal_impulse += c.j_n;
     out_.energy_loss_events += c.energy_lost;
+    if (wear_ != nullptr) {
+      if (kind == EventKind::Edge) {
+        wear_->add_edge(wall, c.j_n, j, true);
+      } else {
+        wear_->add_collision(wall, distance_up_face(wall, state_.r), c.j_n, j);
+      }
+    }
     if (sink_ != nullptr) {
       Event e = base_event(kind, wall);
       e.velocity_after = c.after.v;
@@ -140,20 +174,27 @@ class Run {
     return c;
   }
 
+  /// Distance of the contact point up the face from the face's end (C*, or the vertex).
+  double distance_up_face(Wall wall, Vec2 r) const {
+    const double ws = wall_sign(wall);
+    return ws * g_.cos_t * (r.x - ws * g_.x_face_end) + g_.sin_t * (r.y - g_.y_face_end);
+  }
+
   FlightStart face_collision(Wall wall) {
     const Vec2 n = face_normal(g_, wall);
     // Put the centre exactly on the centre line, so that the next flight starts at distance 0.
     const double delta = face_distance(g_, wall, state_.r);
     state_.r = state_.r - delta * n;
     const Collision c = apply_collision(EventKind::Face, wall, n);
-    FlightStart start;
     if (c.p_after >= params_.p_c) {
+      FlightStart start;
       start.on_face = wall;
       return start;
     }
-    sustained_contact(wall, n, c.p_after);
-    start.left_contact = wall;
-    return start;
+    // Inelastic collapse: drop the residual normal speed and go on in sustained contact.
+    const State before = state_;
+    state_.v = state_.v - c.p_after * n;
+    return sustained_contact(wall, false, before);
   }
 
   FlightStart edge_collision(Wall wall) {
@@ -165,30 +206,77 @@ class Run {
     ++out_.edge_collisions;
     const Collision c = apply_collision(EventKind::Edge, wall, n);
     FlightStart start;
+    if (c.p_after >= params_.p_c) {
+      start.on_edge = wall;
+      return start;
+    }
+    // The edge chatter has collapsed. Without its residual normal speed the particle either
+    // stays on the edge (the normal force it needs is positive) or flies off curving away from
+    // the edge circle, whose quartic then has no root at t = 0+ (its linear term taken as 0).
+    State tangential = state_;
+    tangential.v = state_.v - c.p_after * n;
+    if (edge_normal_force(tangential, e, g_.radius) > 0.0) return sustained_contact(wall, true, state_);
     start.on_edge = wall;
-    // A normal speed below p_c is taken as 0 by the next edge search (flight.cpp, edge_time).
-    if (c.p_after < params_.p_c) start.slow_edge = wall;
+    start.slow_edge = wall;
     return start;
   }
 
-  /// Inelastic collapse onto a face: drop the residual normal speed and slide in closed form.
-  void sustained_contact(Wall wall, Vec2 n, double p_after) {
+  /// Sustained contact after a collapse on `wall`'s face (on_edge false) or edge, through every
+  /// hand-over between the face and its edge, until the particle flies off, rests at the vertex
+  /// of a closed funnel, or the time cap falls inside it. `before` is the state before the
+  /// residual normal speed was dropped (the particle is already tangential in state_).
+  FlightStart sustained_contact(Wall wall, bool on_edge, const State& before) {
+    State entry = before;
+    if (on_edge) {
+      const Vec2 n = (1.0 / g_.radius) * (state_.r - edge_point(g_, wall));
+      state_.v = state_.v - dot(state_.v, n) * n;
+    }
+    for (int hop = 0; hop < max_hand_overs; ++hop) {
+      if (!on_edge) {
+        face_contact(wall, entry);
+        if (done_) return {};
+        // At C*: the edge holds the particle if the normal force it needs is positive
+        // (v^2 < a cos(theta)); otherwise it flies on, tangent to the face and the edge circle.
+        if (!(edge_normal_force(state_, edge_point(g_, wall), g_.radius) > 0.0)) {
+          FlightStart start;
+          start.skip_face = wall;
+          start.skip_edge = wall;
+          return start;
+        }
+      } else {
+        edge_contact_phase(wall, entry);
+        if (done_) return {};
+        if (last_edge_exit_ != EdgeExit::High) {
+          FlightStart start;
+          start.skip_edge = wall;  // it left the circle tangentially, curving away from it
+          return start;
+        }
+      }
+      on_edge = !on_edge;
+      entry = state_;
+    }
+    out_.stalled = true;
+    end(Status::Trapped, time_);
+    return {};
+  }
+
+  /// A sustained contact with a face, from state_ (tangential) to the face's end. `entry` is
+  /// the state before the residual normal speed of a collapse was dropped (or state_).
+  void face_contact(Wall wall, const State& entry) {
     ++out_.contacts;
-    const State before = state_;
-    state_.v = state_.v - p_after * n;
-    const double lost = energy(before, mat_.kappa, mat_.radius) - energy(state_, mat_.kappa, mat_.radius);
+    const double lost = energy(entry, mat_.kappa, mat_.radius) - energy(state_, mat_.kappa, mat_.radius);
     out_.energy_loss_events += lost;
     const ContactResult res = slide_to_end(state_, wall, g_, mat_);
     if (sink_ != nullptr) {
       Event e = base_event(EventKind::ContactStart, wall);
-      e.velocity_before = before.v;
-      e.velocity_after = state_.v;
+      e.velocity_before = entry.v;
+      e.omega_before = entry.omega;
       e.regime = res.first_regime;
       e.energy_lost = lost;
       sink_->record(e);
     }
     if (time_ + res.duration > params_.t_max) {
-      // The cap falls inside the contact: stop there (rare; observables up to the collapse).
+      // The cap falls inside the contact: stop there (rare; observables up to its start).
       end(Status::Trapped, params_.t_max);
       return;
     }
@@ -196,11 +284,14 @@ class Run {
     out_.contact_time += res.duration;
     out_.impulse += res.impulse;
     out_.normal_impulse += res.normal_impulse;
+    if (wear_ != nullptr) {
+      for (int k = 0; k < res.phase_count; ++k) wear_->add_face_phase(wall, res.phases[k], g_.cos_t);
+    }
     const State arrived = res.end;
     state_ = res.end;
     double lost_end = res.energy_lost;
     if (g_.closed) {
-      // A closed funnel's contact ends at the vertex: the particle rests there (MODEL.md §5).
+      // A closed funnel's contact ends at the vertex: the particle rests there (docs/model.md §5).
       lost_end += energy(arrived, mat_.kappa, mat_.radius);
       state_.v = {0.0, 0.0};
       state_.omega = 0.0;
@@ -220,6 +311,56 @@ class Run {
       sink_->record(e);
     }
     if (g_.closed) end(Status::Rest, time_);
+  }
+
+  /// A sustained contact with a wall's edge point, from state_ (on the circle, tangential).
+  void edge_contact_phase(Wall wall, const State& entry) {
+    ++out_.edge_contacts;
+    const double lost = energy(entry, mat_.kappa, mat_.radius) - energy(state_, mat_.kappa, mat_.radius);
+    out_.energy_loss_events += lost;
+    const bool mirrored = wall == Wall::Right;
+    EdgeContactResult res = edge_contact(mirrored ? mirror(state_) : state_, left_arc_, mat_);
+    if (mirrored) {
+      res.end = mirror(res.end);
+      res.tangential_impulse = -res.tangential_impulse;  // t = (n_y, -n_x) mirrors to -t
+    }
+    if (sink_ != nullptr) {
+      Event e = base_event(EventKind::EdgeContactStart, wall);
+      e.velocity_before = entry.v;
+      e.omega_before = entry.omega;
+      e.regime = res.first_regime;
+      e.energy_lost = lost;
+      sink_->record(e);
+    }
+    if (time_ + res.duration > params_.t_max) {
+      end(Status::Trapped, params_.t_max);
+      return;
+    }
+    time_ += res.duration;
+    out_.contact_time += res.duration;
+    out_.impulse += res.impulse;
+    out_.normal_impulse += res.normal_impulse;
+    out_.energy_loss_events += res.energy_lost;
+    if (wear_ != nullptr) wear_->add_edge(wall, res.normal_impulse, res.impulse, false);
+    state_ = res.end;
+    last_edge_exit_ = res.exit;
+    if (res.exit == EdgeExit::High) {
+      // Back at C*, moving up the face: put it exactly there, tangent to the face.
+      const double ws = wall_sign(wall);
+      const Vec2 down{-ws * g_.cos_t, -g_.sin_t};
+      state_.r = {ws * g_.x_face_end, g_.y_face_end};
+      state_.v = dot(res.end.v, down) * down;
+    }
+    if (sink_ != nullptr) {
+      Event e = base_event(EventKind::EdgeContactEnd, wall);
+      e.velocity_before = res.end.v;
+      e.omega_before = res.end.omega;
+      e.regime = res.last_regime;
+      e.j_n = res.normal_impulse;
+      e.j_t = res.tangential_impulse;
+      e.energy_lost = res.energy_lost;
+      sink_->record(e);
+    }
   }
 
   Event base_event(EventKind kind, std::optional<Wall> wall) const {
@@ -244,7 +385,10 @@ class Run {
   const Material mat_;
   const CollisionConstants law_;
   EventSink* sink_;
+  Wear* wear_;
   State state_;
+  EdgeArc left_arc_;
+  EdgeExit last_edge_exit_ = EdgeExit::TakeOff;
   double time_ = 0.0;
   double e0_ = 0.0;
   bool done_ = false;
@@ -253,14 +397,20 @@ class Run {
 
 }  // namespace
 
-Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink) {
-  return Run(params, g, initial, sink).finish();
+Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink, Wear* wear) {
+  return Run(params, g, initial, sink, wear).finish();
 }
 
-Trajectory simulate_release(const Params& params, const Geometry& g, double fraction, EventSink* sink) {
+State release_state(const Params& params, const Geometry& g, double fraction) {
   State s;
   s.r = release_point(g, fraction);
-  return simulate(params, g, s, sink);
+  s.v = {params.release_u, params.release_v};
+  s.omega = params.release_spin;
+  return s;
+}
+
+Trajectory simulate_release(const Params& params, const Geometry& g, double fraction, EventSink* sink, Wear* wear) {
+  return simulate(params, g, release_state(params, g, fraction), sink, wear);
 }
 
 }  // namespace funnel

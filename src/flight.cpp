@@ -23,7 +23,7 @@ double up_face(const Geometry& g, Wall wall, Vec2 r) {
 }  // namespace
 
 double face_time(const Geometry& g, const State& s, Wall wall, const FlightStart& start) {
-  if (start.left_contact == wall) return never;  // tangent at C*: a zero-time hit otherwise (Zeno)
+  if (start.skip_face == wall) return never;  // tangent at C*: a zero-time hit otherwise (Zeno)
   const Vec2 n = face_normal(g, wall);
   const double p = dot(s.v, n);
   // Right after a collision with this face the distance is exactly 0 and the return time 2p/cos.
@@ -40,7 +40,7 @@ double face_time(const Geometry& g, const State& s, Wall wall, const FlightStart
 }
 
 double edge_time(const Geometry& g, const State& s, Wall wall, const FlightStart& start, double t_limit) {
-  if (g.closed || start.left_contact == wall) return never;
+  if (g.closed || start.skip_edge == wall) return never;
   // The edge arc lies at or below C*; the height is concave in time, so a flight that is above
   // C* at both ends of the window cannot touch it.
   const double y_end = s.r.y + s.v.y * t_limit - 0.5 * t_limit * t_limit;
@@ -56,8 +56,8 @@ double edge_time(const Geometry& g, const State& s, Wall wall, const FlightStart
   // After an edge collision that left a normal speed below p_c (e = 0, or the end of a chatter
   // of ever smaller bounces) the rate d.v is rounding noise, and a positive noise made the same
   // edge be found again at t = 0+, time after time, until the Zeno guard (found by
-  // fuzz/fuzz_physics). It is taken as 0, as a face collapse drops its residual normal speed:
-  // the particle then leaves the circle, or its centre enters it (MODEL.md, Edges).
+  // fuzz/fuzz_physics). It is taken as 0, as a face collapse drops its residual normal speed;
+  // the engine starts such a flight only when it curves away from the circle (docs/model.md §5b).
   c[1] = start.slow_edge == wall ? 0.0 : 2.0 * dot(d, s.v);
   c[2] = dot(s.v, s.v) - d.y;
   c[3] = -s.v.y;

@@ -16,7 +16,7 @@ Geometry make_geometry(const Params& params) {
   g.half_gap = 0.5 * params.gap;
   g.closed = params.gap == 0.0;
   g.y_bottom = g.half_gap * g.tan_t - params.radius / g.cos_t;
-  g.y_release = g.y_bottom + 1.0;
+  g.y_release = g.y_bottom + params.release_height;
   g.half_width = g.y_release / g.tan_t;
   if (g.closed) {
     // The faces meet at the vertex; contact is possible on all of each face above it.

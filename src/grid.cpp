@@ -79,40 +79,25 @@ std::optional<std::vector<double>> parse_values(std::string_view text, std::stri
 }
 
 const std::vector<std::string>& sweep_parameter_names() {
-  static const std::vector<std::string> names{"theta", "e", "mu", "beta0", "radius",
-                                              "gap", "inertia", "t-max", "max-collisions"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const ParameterInfo& p : parameters()) {
+      if (p.option) out.emplace_back(p.name);
+    }
+    return out;
+  }();
   return names;
 }
 
 bool set_parameter(Params& params, std::string_view name, double value) {
-  if (name == "theta") params.theta = value;
-  else if (name == "e") params.e = value;
-  else if (name == "mu") params.mu = value;
-  else if (name == "beta0") params.beta0 = value;
-  else if (name == "radius") params.radius = value;
-  else if (name == "gap") params.gap = value;
-  else if (name == "inertia") params.inertia = value;
-  else if (name == "t-max") params.t_max = value;
-  else if (name == "max-collisions") {
-    if (!(value == std::floor(value)) || !(std::fabs(value) < 9.0e18)) return false;
-    params.max_collisions = static_cast<std::int64_t>(value);
-  } else {
-    return false;
-  }
-  return true;
+  const ParameterInfo* p = find_parameter(name);
+  if (p == nullptr || !p->option) return false;
+  return !set_parameter_checked(params, p->name, value).has_value();
 }
 
 double get_parameter(const Params& params, std::string_view name) {
-  if (name == "theta") return params.theta;
-  if (name == "e") return params.e;
-  if (name == "mu") return params.mu;
-  if (name == "beta0") return params.beta0;
-  if (name == "radius") return params.radius;
-  if (name == "gap") return params.gap;
-  if (name == "inertia") return params.inertia;
-  if (name == "t-max") return params.t_max;
-  if (name == "max-collisions") return static_cast<double>(params.max_collisions);
-  return std::nan("");
+  const ParameterInfo* p = find_parameter(name);
+  return p != nullptr ? p->get(params) : std::nan("");
 }
 
 std::vector<Params> expand_grid(const Params& base, const std::vector<Axis>& axes) {

@@ -1,53 +1,118 @@
-// Validation of the model parameters (MODEL.md §1).
+// The parameter table and the validation of the model parameters (docs/model.md §1).
 #include "funnel/params.hpp"
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <numbers>
-#include <charconv>
-#include <utility>
 
 namespace funnel {
 
 namespace {
 
-constexpr std::array<std::pair<std::string_view, std::string_view>, 11> range_table{{
-    {"theta", "0 < theta < 90 (degrees)"},
-    {"e", "0 <= e <= 1"},
-    {"mu", "mu >= 0 (finite)"},
-    {"beta0", "-1 <= beta0 <= 1"},
-    {"radius", "0 < radius < 1"},
-    {"gap", "gap = 0 (closed funnel) or gap > 2*radius (finite)"},
-    {"inertia", "inertia > 0 (finite)"},
-    {"t-max", "t-max > 0 (finite)"},
-    {"max-collisions", "max-collisions >= 1"},
-    {"p-c", "p-c > 0 (finite)"},
-    {"eps-rest", "eps-rest > 0 (finite)"},
+// Captureless accessors for the table.
+#define FUNNEL_FIELD(field)                                               \
+  [](const Params& p) { return static_cast<double>(p.field); },          \
+  [](Params& p, double v) { p.field = static_cast<decltype(p.field)>(v); }
+
+const std::array<ParameterInfo, 15> table{{
+    {"theta", "wall angle to the horizontal", "degrees", "0 < theta < 90 (degrees)", "60", false, true,
+     FUNNEL_FIELD(theta)},
+    {"e", "normal restitution", "", "0 <= e <= 1", "0.99", false, true, FUNNEL_FIELD(e)},
+    {"mu", "Coulomb friction coefficient", "", "mu >= 0 (finite)", "1", false, true, FUNNEL_FIELD(mu)},
+    {"beta0", "maximum tangential restitution (Walton)", "", "-1 <= beta0 <= 1", "0", false, true,
+     FUNNEL_FIELD(beta0)},
+    {"radius", "particle radius a", "H", "0 < radius < 1", "0.01", false, true, FUNNEL_FIELD(radius)},
+    {"gap", "gap between the walls' lower edges (0 = closed funnel)", "H",
+     "gap = 0 (closed funnel) or gap > 2*radius (finite)", "0.04", false, true, FUNNEL_FIELD(gap)},
+    {"inertia", "kappa = I/(m a^2): 0.4 solid sphere, 2/3 hollow sphere, 0.5 disk", "", "inertia > 0 (finite)",
+     "0.4", false, true, FUNNEL_FIELD(inertia)},
+    {"t-max", "time cap", "sqrt(H/g)", "t-max > 0 (finite)", "1e5", false, true, FUNNEL_FIELD(t_max)},
+    {"max-collisions", "collision cap per trajectory", "", "max-collisions >= 1 (an integer)", "1e8", true, true,
+     FUNNEL_FIELD(max_collisions)},
+    {"release-height", "height H0 of the release line above the funnel bottom", "H",
+     "release-height > 0 (finite), with the release line above the faces' lower ends and the vertex", "1",
+     false, true, FUNNEL_FIELD(release_height)},
+    {"release-u", "initial horizontal velocity of the centre", "sqrt(gH)", "finite, |release-u| <= 1e6", "0",
+     false, true, FUNNEL_FIELD(release_u)},
+    {"release-v", "initial vertical velocity of the centre (up positive)", "sqrt(gH)",
+     "finite, |release-v| <= 1e6", "0", false, true, FUNNEL_FIELD(release_v)},
+    {"release-spin", "initial spin, counter-clockwise", "sqrt(g/H)", "finite, |release-spin| <= 1e8", "0", false,
+     true, FUNNEL_FIELD(release_spin)},
+    {"p-c", "collapse threshold on the normal speed after a collision", "sqrt(gH)", "p-c > 0 (finite)", "1e-9",
+     false, false, FUNNEL_FIELD(p_c)},
+    {"eps-rest", "closed funnel: energy above the vertex below which the particle rests", "mgH",
+     "eps-rest > 0 (finite)", "1e-12", false, false, FUNNEL_FIELD(eps_rest)},
 }};
 
-std::string format_value(double value) {
-  char buf[32];
-  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, value);  // shortest round-trip form
-  return ec == std::errc() ? std::string(buf, ptr) : "?";
-}
+#undef FUNNEL_FIELD
 
 ParamError error(std::string_view name, double value) {
-  return ParamError{std::string(name), format_value(value), std::string(valid_range(name))};
+  return ParamError{std::string(name), format_number(value), std::string(valid_range(name))};
+}
+
+bool same_name(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const char x = a[i] == '_' ? '-' : a[i];
+    const char y = b[i] == '_' ? '-' : b[i];
+    if (x != y) return false;
+  }
+  return true;
 }
 
 }  // namespace
 
 Params default_params() { return Params{}; }
 
+std::string ParameterInfo::key() const {
+  std::string k(name);
+  for (char& c : k) {
+    if (c == '-') c = '_';
+  }
+  return k;
+}
+
+std::span<const ParameterInfo> parameters() { return table; }
+
+const ParameterInfo* find_parameter(std::string_view name) {
+  for (const ParameterInfo& p : table) {
+    if (same_name(p.name, name)) return &p;
+  }
+  return nullptr;
+}
+
+std::string format_number(double value) {
+  char buf[32];
+  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, value);  // shortest round-trip form
+  return ec == std::errc() ? std::string(buf, ptr) : "?";
+}
+
 std::string ParamError::message() const {
   return "invalid " + name + " = " + value + ": valid range is " + range;
 }
 
 std::string_view valid_range(std::string_view name) {
-  for (const auto& [key, text] : range_table) {
-    if (key == name) return text;
+  const ParameterInfo* p = find_parameter(name);
+  return p != nullptr ? p->range : std::string_view{};
+}
+
+std::optional<ParamError> set_parameter_checked(Params& params, std::string_view name, double value) {
+  const ParameterInfo* p = find_parameter(name);
+  if (p == nullptr) {
+    std::string names;
+    for (const ParameterInfo& q : table) {
+      if (!q.option) continue;
+      names += names.empty() ? "" : ", ";
+      names += q.name;
+    }
+    return ParamError{std::string(name), format_number(value), "a model parameter: " + names};
   }
-  return {};
+  if (p->integer && !(value == std::floor(value) && std::fabs(value) < 9.0e18)) {
+    return ParamError{std::string(p->name), format_number(value), std::string(p->range)};
+  }
+  p->set(params, value);
+  return std::nullopt;
 }
 
 std::optional<ParamError> validate(const Params& params) {
@@ -59,31 +124,45 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(params.radius > 0.0 && params.radius < 1.0)) return error("radius", params.radius);
   if (!(params.gap == 0.0 || (params.gap > 2.0 * params.radius && std::isfinite(params.gap)))) {
     ParamError err = error("gap", params.gap);
-    err.range += " with radius = " + format_value(params.radius);
+    err.range += " with radius = " + format_number(params.radius);
     return err;
   }
-  // The release point (H = 1 above the funnel bottom) must lie above the vertex, where the
-  // centre lines meet; this fails only for a wide particle in a very steep closed funnel.
+  if (!(params.release_height > 0.0 && std::isfinite(params.release_height))) {
+    return error("release-height", params.release_height);
+  }
   {
     const double rad = params.theta * std::numbers::pi / 180.0;
     const double y_bottom = 0.5 * params.gap * std::tan(rad) - params.radius / std::cos(rad);
-    if (!(1.0 + y_bottom > 0.0)) {
-      ParamError err = error("theta", params.theta);
-      err.range = "0 < theta < 90 (degrees) with the release point above the funnel's vertex: "
-                  "1 + (gap/2) tan(theta) - radius/cos(theta) > 0";
-      return err;
-    }
     // The derived geometry must be finite (found by fuzz/fuzz_parse): a gap near the largest
-    // double overflows y_b, and a subnormal theta (below ~1e-306 degrees) overflows the
-    // release line's half-width L = y_0 / tan(theta); either made every output NaN.
+    // double overflows y_b.
     if (!std::isfinite(y_bottom)) {
       ParamError err = error("gap", params.gap);
       err.range += " with (gap/2) tan(theta) finite";
       return err;
     }
-    if (!std::isfinite((1.0 + y_bottom) / std::tan(rad))) {
+    // The release line must lie above the vertex, where the centre lines meet (this fails only
+    // for a wide particle in a very steep closed funnel, or a low release line) ...
+    if (!(params.release_height + y_bottom > 0.0)) {
+      ParamError err = error(params.release_height == 1.0 ? "theta" : "release-height",
+                             params.release_height == 1.0 ? params.theta : params.release_height);
+      err.range = std::string(err.name == "theta" ? "0 < theta < 90 (degrees)" : "release-height > 0") +
+                  " with the release line above the funnel's vertex: release-height + (gap/2) tan(theta) - "
+                  "radius/cos(theta) > 0";
+      return err;
+    }
+    // ... and, in an open funnel, above the faces' lower ends C* (a cos(theta) above the edges),
+    // where the funnel's width is bounded by the faces.
+    if (params.gap != 0.0 && !(params.release_height > params.radius * std::cos(rad))) {
+      ParamError err = error("release-height", params.release_height);
+      err.range = "release-height > radius * cos(theta) = " + format_number(params.radius * std::cos(rad)) +
+                  " (the release line above the lower ends of the faces)";
+      return err;
+    }
+    // A subnormal theta (below ~1e-306 degrees) overflows the release line's half-width
+    // L = y_0 / tan(theta), which made every output NaN (found by fuzz/fuzz_parse).
+    if (!std::isfinite((params.release_height + y_bottom) / std::tan(rad))) {
       ParamError err = error("theta", params.theta);
-      err.range = "0 < theta < 90 (degrees) with a finite half-width (1 + y_b)/tan(theta) of the release line";
+      err.range = "0 < theta < 90 (degrees) with a finite half-width (H0 + y_b)/tan(theta) of the release line";
       return err;
     }
   }
@@ -93,6 +172,9 @@ std::optional<ParamError> validate(const Params& params) {
     return ParamError{"max-collisions", std::to_string(params.max_collisions),
                       std::string(valid_range("max-collisions"))};
   }
+  if (!(std::fabs(params.release_u) <= 1e6)) return error("release-u", params.release_u);
+  if (!(std::fabs(params.release_v) <= 1e6)) return error("release-v", params.release_v);
+  if (!(std::fabs(params.release_spin) <= 1e8)) return error("release-spin", params.release_spin);
   if (!(params.p_c > 0.0 && std::isfinite(params.p_c))) return error("p-c", params.p_c);
   if (!(params.eps_rest > 0.0 && std::isfinite(params.eps_rest))) return error("eps-rest", params.eps_rest);
   return std::nullopt;

@@ -127,7 +127,8 @@ TEST(Flight, LeavingAContactAtTheFaceEndFindsNoZeroTimeEvent) {
     s.r = {-g.x_face_end, g.y_face_end};
     s.v = speed * Vec2{g.cos_t, -g.sin_t};  // down the left face
     FlightStart start;
-    start.left_contact = Wall::Left;
+    start.skip_face = Wall::Left;
+    start.skip_edge = Wall::Left;
     const NextEvent ev = next_event(g, s, start);
     EXPECT_GT(ev.dt, 1e-6) << speed;
   }

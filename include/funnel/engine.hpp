@@ -18,7 +18,7 @@ enum class Status { Exited, Rest, Trapped };
 
 /// Lower-case names used in every output: "exited", "rest", "trapped".
 std::string_view to_string(Status status);
-/// "face", "edge", "contact_start", "contact_end", "exit".
+/// "face", "edge", "contact_start", "contact_end", "exit", "edge_contact_start", "edge_contact_end".
 std::string_view to_string(EventKind kind);
 /// "left", "right".
 std::string_view to_string(Wall wall);
@@ -37,9 +37,9 @@ struct Event {
   double omega_after = 0.0;   ///< spin just after
   double slip_before = 0.0;   ///< tangential velocity of the contact point before (collisions)
   Regime regime = Regime::None;  ///< collision regime, or the contact's regime at start/end
-  double j_n = 0.0;           ///< normal impulse (for ContactEnd: integral of N dt)
-  double j_t = 0.0;           ///< tangential impulse along the wall tangent (ContactEnd: integral of F dt)
-  double energy_lost = 0.0;   ///< energy lost in this event (ContactEnd: over the whole contact)
+  double j_n = 0.0;           ///< normal impulse (for a contact's end: integral of N dt)
+  double j_t = 0.0;           ///< tangential impulse along t = (n_y, -n_x) (a contact's end: integral of F dt)
+  double energy_lost = 0.0;   ///< energy lost in this event (a contact's end: over the whole contact)
 };
 
 /// Receives the events of a trajectory as they happen.
@@ -69,18 +69,29 @@ struct Trajectory {
   double energy_loss_events = 0.0;  ///< sum of the losses of every event (bookkeeping check)
   std::int64_t collisions = 0;      ///< all collisions, face and edge
   std::int64_t edge_collisions = 0; ///< collisions with an edge (included in `collisions`)
-  std::int64_t contacts = 0;        ///< sustained contacts (collapses)
-  double contact_time = 0.0;        ///< total time in sustained contact
+  std::int64_t contacts = 0;        ///< sustained face contacts
+  std::int64_t edge_contacts = 0;   ///< sustained edge contacts (rolling or sliding over a corner)
+  double contact_time = 0.0;        ///< total time in sustained contact, faces and edges
   bool stopped = false;             ///< ended early by EventSink::finished() (status Trapped)
   bool stalled = false;             ///< ended by the Zeno guard in an open funnel (status Trapped); never expected
   State final_state;                ///< state when the run ended
+  State exit_state;                 ///< state at the exit level (status Exited only)
 };
 
-/// Runs one trajectory from any admissible initial state (units H = g = m = 1).
-Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink = nullptr);
+struct Wear;
 
-/// Runs one trajectory released at rest at x0 = fraction * L on the release line, fraction in (-1, 1).
-Trajectory simulate_release(const Params& params, const Geometry& g, double fraction, EventSink* sink = nullptr);
+/// Runs one trajectory from any admissible initial state (units H = g = m = 1). With `wear`
+/// (made by Wear::make for this geometry), its collisions and contacts are also binned there.
+Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink = nullptr,
+                    Wear* wear = nullptr);
+
+/// The release state at x0 = fraction * L on the release line (fraction in (-1, 1)), with the
+/// parameters' release velocity and spin.
+State release_state(const Params& params, const Geometry& g, double fraction);
+
+/// Runs one trajectory from release_state(params, g, fraction).
+Trajectory simulate_release(const Params& params, const Geometry& g, double fraction, EventSink* sink = nullptr,
+                            Wear* wear = nullptr);
 
 /// Number of consecutive events without any advance of time after which a run is stopped as
 /// `trapped`: a guard against Zeno loops that no valid trajectory should ever reach.

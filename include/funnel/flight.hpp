@@ -9,14 +9,15 @@
 namespace funnel {
 
 /// What can happen to the particle; every event of a trajectory is one of these.
-enum class EventKind { Face, Edge, ContactStart, ContactEnd, Exit };
+enum class EventKind { Face, Edge, ContactStart, ContactEnd, Exit, EdgeContactStart, EdgeContactEnd };
 
 /// How the current flight began, so that the contact it left is not found again at t = 0.
 struct FlightStart {
-  std::optional<Wall> on_face;       ///< centre exactly on this wall's centre line (after a face collision)
-  std::optional<Wall> on_edge;       ///< centre exactly on this wall's edge circle (after an edge collision)
-  std::optional<Wall> left_contact;  ///< left a sustained contact at this wall's C*: skip face and edge
-  std::optional<Wall> slow_edge;     ///< on_edge, and the normal speed it left is below p_c: taken as 0
+  std::optional<Wall> on_face;    ///< centre exactly on this wall's centre line (after a face collision)
+  std::optional<Wall> on_edge;    ///< centre exactly on this wall's edge circle (after an edge collision)
+  std::optional<Wall> slow_edge;  ///< on_edge, and the normal speed it left is below p_c: taken as 0
+  std::optional<Wall> skip_face;  ///< left this wall's face tangentially at C*: it cannot be hit again
+  std::optional<Wall> skip_edge;  ///< left this wall's edge circle tangentially, curving away from it
 };
 
 /// The earliest event of a free flight.

@@ -32,7 +32,7 @@ struct Geometry {
   double half_gap = 0.0;   ///< d/2; 0 for a closed funnel
   bool closed = false;     ///< d = 0: the walls meet at the vertex, no edges, no exit
   double y_bottom = 0.0;   ///< y_b, height of the edges (the funnel bottom); exit level
-  double y_release = 0.0;  ///< y_0 = y_b + 1, release height of the centre
+  double y_release = 0.0;  ///< y_0 = y_b + H0, release height of the centre
   double half_width = 0.0; ///< L = y_0 / tan(theta), half the opening for the centre at y_0
   double y_face_end = 0.0; ///< height of C*, the lower end of the face-contact region (0 if closed)
   double x_face_end = 0.0; ///< |x| of C*_R (C*_L is at -x_face_end); 0 if closed

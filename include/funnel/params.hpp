@@ -1,8 +1,9 @@
-// Model parameters (MODEL.md §1) and their validation.
+// Model parameters (docs/model.md §1), their one table and their validation.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -19,12 +20,39 @@ struct Params {
   double inertia = 0.4;       ///< kappa = I/(m a^2), > 0 (2/5 solid sphere)
   double t_max = 1e5;         ///< time cap, units of sqrt(H/g), > 0
   std::int64_t max_collisions = 100'000'000;  ///< collision cap, >= 1
-  double p_c = 1e-9;          ///< collapse threshold on the normal speed after a face collision, > 0
+  double release_height = 1.0;  ///< H0: height of the release line above the funnel bottom, units of H
+  double release_u = 0.0;       ///< initial horizontal velocity, units sqrt(gH), finite
+  double release_v = 0.0;       ///< initial vertical velocity (up positive), units sqrt(gH), finite
+  double release_spin = 0.0;    ///< initial spin, counter-clockwise, units sqrt(g/H), finite
+  double p_c = 1e-9;          ///< collapse threshold on the normal speed after a collision, > 0
   double eps_rest = 1e-12;    ///< closed funnel: energy above the vertex below which the particle rests, > 0
 };
 
-/// The documented defaults of MODEL.md §1 and §5–6.
+/// The documented defaults (docs/model.md §1).
 Params default_params();
+
+/// One model parameter: the single description behind the command-line options, the JSON/CSV
+/// columns, the sweep axes and the Python keywords.
+struct ParameterInfo {
+  std::string_view name;          ///< command-line name, e.g. "t-max"; the key in outputs and Python is key()
+  std::string_view meaning;       ///< one line, for --help
+  std::string_view unit;          ///< unit in the nondimensionalisation, "" if dimensionless
+  std::string_view range;         ///< the valid range, as text
+  std::string_view default_text;  ///< the default, as text
+  bool integer = false;           ///< only integers are valid
+  bool option = true;             ///< a command-line option, sweep axis and CSV column (false: library only)
+  double (*get)(const Params&) = nullptr;
+  void (*set)(Params&, double) = nullptr;
+
+  /// Name in outputs and Python: '-' becomes '_' ("t_max").
+  std::string key() const;
+};
+
+/// Every model parameter, in the order of the outputs' columns and of a sweep grid's axes.
+std::span<const ParameterInfo> parameters();
+
+/// The parameter with this command-line name or output key ("t-max" or "t_max"); null if none.
+const ParameterInfo* find_parameter(std::string_view name);
 
 /// A rejected parameter value: which parameter, the value given and the valid range.
 struct ParamError {
@@ -41,7 +69,14 @@ std::optional<ParamError> validate(const Params& params);
 /// Valid-range text of a parameter by its name (e.g. "theta"), for help texts; empty if unknown.
 std::string_view valid_range(std::string_view name);
 
-/// Number of release positions in an ensemble; default of MODEL.md §8.
+/// Sets the parameter `name` to `value`; an error for an unknown name (range "a model
+/// parameter: ...") or a non-integral value of an integer parameter. No range check.
+std::optional<ParamError> set_parameter_checked(Params& params, std::string_view name, double value);
+
+/// Shortest text that reads back as the same double.
+std::string format_number(double value);
+
+/// Number of release positions in an ensemble; default of docs/model.md §8.
 inline constexpr std::int64_t default_samples = 4000;
 
 }  // namespace funnel

@@ -1,0 +1,38 @@
+// Audit of a trajectory's free flights, rebuilt from its event log: no flight may bring the
+// sphere into a wall face or an edge, and every exit lies between the edges (docs/model.md §5b).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "funnel/engine.hpp"
+#include "funnel/geometry.hpp"
+
+namespace funnel {
+
+/// What the free flights of one or more trajectories did near the walls.
+struct FlightAudit {
+  std::int64_t flights = 0;             ///< free flights checked
+  std::int64_t edge_overlaps = 0;       ///< flights whose centre came closer than a (1 - tol) to an edge point
+  std::int64_t face_crossings = 0;      ///< flights whose centre went behind a centre line where the face is
+  std::int64_t exits_outside = 0;       ///< exits with the centre not between the edge circles
+  std::int64_t trajectories = 0;        ///< trajectories audited
+  std::int64_t trajectories_overlapping = 0;  ///< trajectories with at least one fault above
+  double min_edge_distance = 0.0;       ///< smallest |centre - E| / a over every flight (1 = touching)
+  double max_face_depth = 0.0;          ///< deepest centre behind a centre line, in units of a (>= 0)
+
+  /// Adds another audit (counts add, extremes combine).
+  void merge(const FlightAudit& other);
+  /// True when nothing overlapped.
+  bool clean() const { return edge_overlaps == 0 && face_crossings == 0 && exits_outside == 0; }
+};
+
+/// Relative tolerance of the audit: a distance of a (1 - 1e-9) to an edge point is still a touch.
+inline constexpr double audit_tolerance = 1e-9;
+
+/// Rebuilds every free flight of a trajectory that started in `initial` from its event log and
+/// checks it against the walls, the edges and the exit; the sustained contacts (between
+/// contact_start/contact_end and edge_contact_start/edge_contact_end) are not flights.
+FlightAudit audit_flights(const Geometry& g, const State& initial, const std::vector<Event>& events);
+
+}  // namespace funnel

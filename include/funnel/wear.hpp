@@ -1,0 +1,54 @@
+// Where the walls wear: collisions and impulses binned along each wall (docs/model.md §7).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "funnel/contact.hpp"
+#include "funnel/geometry.hpp"
+
+namespace funnel {
+
+/// Wear of one wall: per bin of distance along the wall's surface, and at its lower edge.
+struct WallWear {
+  std::vector<double> collisions;      ///< face collisions per bin
+  std::vector<double> normal_impulse;  ///< normal impulse per bin (collisions + contacts), units m sqrt(gH)
+  std::vector<double> impulse;         ///< total impulse |J| per bin (collisions + contacts), units m sqrt(gH)
+  double edge_collisions = 0.0;        ///< collisions with the edge point
+  double edge_normal_impulse = 0.0;    ///< normal impulse on the edge (collisions + edge contacts)
+  double edge_impulse = 0.0;           ///< total impulse on the edge (collisions + edge contacts)
+};
+
+/// Wear of both walls in `bins` equal bins of distance s along the wall's surface, measured
+/// from the lower end of the face (the edge point; the lowest contact point in a closed funnel)
+/// up to the release height: bin_width = H0 / sin(theta) / bins. Contacts above the release
+/// height (possible only for upward releases) are counted in the last bin.
+struct Wear {
+  int bins = 0;              ///< number of bins per wall (0: wear is not recorded)
+  double bin_width = 0.0;    ///< units of H
+  std::array<WallWear, 2> walls;  ///< indexed by wall: 0 left, 1 right
+
+  /// Empty wear record for a funnel.
+  static Wear make(const Geometry& g, int bins);
+
+  WallWear& operator[](Wall w) { return walls[w == Wall::Left ? 0 : 1]; }
+  const WallWear& operator[](Wall w) const { return walls[w == Wall::Left ? 0 : 1]; }
+
+  /// A face collision at distance s up the face, with normal impulse j_n and |J| = j.
+  void add_collision(Wall wall, double s, double j_n, double j);
+  /// An edge collision, or (count = false) an edge contact's impulses.
+  void add_edge(Wall wall, double j_n, double j, bool count);
+  /// A phase of sustained face contact with constant acceleration: its impulses are spread over
+  /// the bins in proportion to the time spent in each (normal force cos(theta), friction force).
+  void add_face_phase(Wall wall, const FacePhase& phase, double cos_theta);
+
+  /// Adds another record of the same binning.
+  void merge(const Wear& other);
+  /// Multiplies every entry by `factor` (e.g. 1/N for per-sample means).
+  void scale(double factor);
+  /// The record of the mirror-image trajectory: left and right swapped.
+  Wear mirrored() const;
+};
+
+}  // namespace funnel

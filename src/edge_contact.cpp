@@ -1,0 +1,376 @@
+// Sustained contact with an edge point, phase by phase (docs/model.md §5b).
+//
+// The centre moves on the circle r = E + a n, n = (cos psi, sin psi). Per unit mass, with the
+// friction force F along t = (n_y, -n_x) and W = psi'^2:
+//   normal force      N = sin(psi) - a W                    (contact while N > 0)
+//   along the circle  a psi'' = -cos(psi) - F
+//   spin              kappa a omega' = F
+//   slip              s = a (omega - psi')
+//   about E           a^2 psi' + kappa a^2 omega = L0 - a G,  G = integral of cos(psi) dt
+// Rolling (s = 0, F = -kappa cos(psi)/(1 + kappa)) conserves (1 + kappa) a^2 W / 2 + a sin(psi);
+// sliding (F = -sigma mu N) gives the linear equation dW/dpsi + 2 sigma mu W =
+// (2/a)(sigma mu sin(psi) - cos(psi)), solved in closed form. So W, N and the rolling friction
+// limit are closed-form functions of psi; the time, G and the impulses are integrals over psi,
+// evaluated by adaptive Gauss-Kronrod quadrature after a change of variable that removes the
+// square-root singularity of dt = dpsi / psi' at turning points (W = 0).
+#include "funnel/edge_contact.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+
+#include <boost/math/quadrature/gauss.hpp>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <boost/math/tools/roots.hpp>
+
+namespace funnel {
+
+namespace {
+
+/// Phases (rolling/sliding, split at turning points) after which a contact is ended as a
+/// take-off; a guard that no physical contact reaches (each phase changes the regime or the
+/// direction of motion).
+constexpr int max_phases = 64;
+/// Samples of the closed-form event functions over a phase's range of angles.
+constexpr int event_samples = 32;
+/// Pieces of a sliding phase at whose ends the slip is checked for a zero.
+constexpr int slip_pieces = 8;
+/// Relative accuracy of every quadrature (of its L1 norm), below the 1e-13 the model asks for.
+constexpr double quad_tol = 1e-14;
+
+using Vec4 = std::array<double, 4>;  // time, G, integral of N dt, integral of sqrt(N^2 + F^2) dt
+
+/// psi'^2 as a function of psi in one regime, and the forces that go with it.
+struct Branch {
+  Regime regime = Regime::Rolling;  // Rolling or Sliding
+  double sigma = 0.0;               // sign of the slip while sliding
+  double a = 0.0, kappa = 0.0, mu = 0.0;
+  double k = 0.0, alpha = 0.0, beta = 0.0;  // sliding: W_p = alpha sin + beta cos, decay rate k
+
+  Branch(Regime r, double sig, const Material& m) : regime(r), sigma(sig), a(m.radius), kappa(m.kappa), mu(m.mu) {
+    if (regime == Regime::Sliding) {
+      k = 2.0 * sigma * mu;
+      const double c1 = 2.0 * sigma * mu / a;
+      const double c2 = -2.0 / a;
+      alpha = (k * c1 + c2) / (1.0 + k * k);
+      beta = (k * c2 - c1) / (1.0 + k * k);
+    }
+  }
+
+  /// W at psi_r + delta on the solution through (psi_r, w_r); written with half-angle products
+  /// and expm1 of the offset delta (not of psi - psi_r, which loses the offset's digits), so that
+  /// it keeps its relative accuracy near the reference point (e.g. a turning point, W = 0).
+  double W(double psi_r, double w_r, double delta) const {
+    const double half = 0.5 * delta;
+    const double mid = psi_r + half;
+    if (regime == Regime::Rolling) return w_r - 4.0 * std::cos(mid) * std::sin(half) / (a * (1.0 + kappa));
+    const double d_particular = 2.0 * std::sin(half) * (alpha * std::cos(mid) - beta * std::sin(mid));
+    const double particular_r = alpha * std::sin(psi_r) + beta * std::cos(psi_r);
+    // Beyond the end of a sliding phase the homogeneous part may grow without bound (large mu);
+    // the cap keeps it finite (the phase ends long before).
+    const double arg = std::fmin(-k * delta, 700.0);
+    return d_particular + w_r + (w_r - particular_r) * std::expm1(arg);
+  }
+
+  double normal(double psi, double w) const { return std::sin(psi) - a * w; }
+
+  /// Friction force along t for the normal force n.
+  double friction(double psi, double n) const {
+    return regime == Regime::Rolling ? -kappa * std::cos(psi) / (1.0 + kappa) : -sigma * mu * n;
+  }
+
+  /// psi'' at psi with normal force n.
+  double accel(double psi, double n) const { return (-std::cos(psi) - friction(psi, n)) / a; }
+};
+
+/// Static friction can hold rolling at psi with normal force n: kappa |cos| <= mu (1 + kappa) N.
+double rolling_margin(double psi, double n, const Material& m) {
+  return m.mu * (1.0 + m.kappa) * n - m.kappa * std::fabs(std::cos(psi));
+}
+
+/// The regime that follows zero slip at psi: rolling if friction can hold it, else sliding in
+/// the direction the slip then grows (the sign of cos psi).
+Branch zero_slip_branch(double psi, double n, const Material& m) {
+  if (rolling_margin(psi, n, m) >= 0.0) return Branch(Regime::Rolling, 0.0, m);
+  return Branch(Regime::Sliding, std::cos(psi) >= 0.0 ? 1.0 : -1.0, m);
+}
+
+/// Adaptive Gauss-Kronrod quadrature (15 points, Gauss 7 embedded) of the vector integrand
+/// (dt, cos(psi) dt, N dt, sqrt(N^2 + F^2) dt) on an interval of the phase's variable x.
+template <class F>
+class Quadrature {
+ public:
+  Quadrature(const F& f, double friction) : f_(f), bound_(2.0 + friction) {}
+
+  Vec4 operator()(double x0, double x1) {
+    evaluations_ = 0;
+    return integrate(x0, x1, 0);
+  }
+
+ private:
+  /// Evaluations after which no interval is split any further: a guard, never reached by the
+  /// smooth integrands of a phase (a few hundred evaluations each).
+  static constexpr long budget = 200000;
+
+  Vec4 integrate(double x0, double x1, int depth) {
+    using K = boost::math::quadrature::gauss_kronrod<double, 15>;
+    using G = boost::math::quadrature::gauss<double, 7>;
+    const double mid = 0.5 * (x0 + x1);
+    const double half = 0.5 * (x1 - x0);
+    Vec4 kron{}, gauss{}, l1{};
+    auto add = [&](const Vec4& v, double wk, double wg) {
+      for (int c = 0; c < 4; ++c) {
+        kron[c] += wk * v[c];
+        gauss[c] += wg * v[c];
+        l1[c] += wk * std::fabs(v[c]);
+      }
+    };
+    add(f_(mid), K::weights()[0], G::weights()[0]);
+    for (std::size_t i = 1; i < K::abscissa().size(); ++i) {
+      const double dx = half * K::abscissa()[i];
+      const double wg = i % 2 == 0 ? G::weights()[i / 2] : 0.0;
+      add(f_(mid + dx), K::weights()[i], wg);
+      add(f_(mid - dx), K::weights()[i], wg);
+    }
+    evaluations_ += 15;
+    // Converged when the embedded rules agree to quad_tol of each component's L1 norm, or to
+    // the rounding floor of the integrands: each is a bounded function (|cos|, N <= 1,
+    // sqrt(N^2 + F^2) <= 2 + mu) times dt, and N = sin(psi) - a W is computed with
+    // absolute error ~eps, so no component is known better than ~eps times the time.
+    const double floor = 64.0 * std::numeric_limits<double>::epsilon() * bound_ * l1[0];
+    bool converged = true;
+    for (int c = 0; c < 4; ++c) {
+      if (std::fabs(kron[c] - gauss[c]) > std::fmax(quad_tol * l1[c], floor)) converged = false;
+    }
+    if (converged || depth >= 50 || evaluations_ > budget || !(x0 < mid && mid < x1)) {
+      for (double& v : kron) v *= half;
+      return kron;
+    }
+    Vec4 left = integrate(x0, mid, depth + 1);
+    const Vec4 right = integrate(mid, x1, depth + 1);
+    for (int c = 0; c < 4; ++c) left[c] += right[c];
+    return left;
+  }
+
+  const F& f_;
+  double bound_;
+  long evaluations_ = 0;
+};
+
+/// Root of f on [lo, hi] (f(lo) > 0 >= f(hi)) to the last bit.
+template <class F>
+double refine_root(const F& f, double lo, double hi, double f_lo, double f_hi) {
+  if (f_hi == 0.0) return hi;
+  std::uintmax_t iterations = 200;
+  const auto bracket = boost::math::tools::toms748_solve(
+      f, lo, hi, f_lo, f_hi, boost::math::tools::eps_tolerance<double>(std::numeric_limits<double>::digits),
+      iterations);
+  // The end of the bracket on the side where f <= 0: the event has happened there.
+  return bracket.second;
+}
+
+/// Why a phase ended.
+enum class PhaseEnd { Limit, TakeOff, Turning, SlipOnset, SlipZero };
+
+/// First root of f between `from` (where f > 0) and `to` (where f <= 0), on either side.
+template <class F>
+double refine_between(const F& f, double from, double to, double f_from, double f_to) {
+  if (from < to) return refine_root(f, from, to, f_from, f_to);
+  auto mirrored = [&](double x) { return f(-x); };
+  return -refine_root(mirrored, -from, -to, f_from, f_to);
+}
+
+/// The running contact: angle, W = psi'^2, direction of motion, spin, and the result so far.
+class Contact {
+ public:
+  Contact(const State& start, const EdgeArc& arc, const Material& m) : arc_(arc), m_(m), a_(m.radius) {
+    const Vec2 d = start.r - arc.point;
+    psi_ = std::clamp(std::atan2(d.y, d.x), arc.psi_low, arc.psi_high);
+    const double rate = (-std::sin(psi_) * start.v.x + std::cos(psi_) * start.v.y) / a_;  // psi'
+    w_ = rate * rate;
+    dir_ = rate >= 0.0 ? 1.0 : -1.0;
+    omega_ = start.omega;
+    e_start_ = energy(start, m.kappa, m.radius);
+  }
+
+  EdgeContactResult run() {
+    const double s0 = a_ * (omega_ - rate());
+    // A slip within rounding of zero is zero (e.g. arriving from rolling on a face).
+    const double eps = std::numeric_limits<double>::epsilon();
+    const bool no_slip = std::fabs(s0) <= 8.0 * eps * a_ * (std::fabs(omega_) + std::fabs(rate()));
+    Branch branch = no_slip ? zero_slip_branch(psi_, std::sin(psi_) - a_ * w_, m_)
+                            : Branch(Regime::Sliding, s0 > 0.0 ? 1.0 : -1.0, m_);
+    if (no_slip && branch.regime == Regime::Rolling) omega_ = rate();
+    res_.first_regime = branch.regime;
+    for (;;) {
+      if (w_ == 0.0) dir_ = branch.accel(psi_, std::sin(psi_)) >= 0.0 ? 1.0 : -1.0;  // from rest
+      res_.last_regime = branch.regime;
+      const PhaseEnd end = phase(branch);
+      ++res_.phases;
+      if (end == PhaseEnd::Limit || end == PhaseEnd::TakeOff || res_.phases >= max_phases) {
+        res_.exit = end == PhaseEnd::Limit ? (dir_ > 0.0 ? EdgeExit::High : EdgeExit::Low) : EdgeExit::TakeOff;
+        break;
+      }
+      const double n = branch.normal(psi_, w_);
+      if (end == PhaseEnd::Turning) {
+        dir_ = branch.accel(psi_, n) >= 0.0 ? 1.0 : -1.0;
+      } else if (end == PhaseEnd::SlipOnset) {
+        branch = Branch(Regime::Sliding, std::cos(psi_) >= 0.0 ? 1.0 : -1.0, m_);
+      } else {  // SlipZero
+        branch = zero_slip_branch(psi_, n, m_);
+        omega_ = rate();
+      }
+    }
+    res_.end = state();
+    res_.energy_lost = e_start_ - energy(res_.end, m_.kappa, m_.radius);
+    return res_;
+  }
+
+ private:
+  double rate() const { return dir_ * std::sqrt(w_); }
+
+  State state() const {
+    State s;
+    const double c = std::cos(psi_), sn = std::sin(psi_);
+    s.r = arc_.point + a_ * Vec2{c, sn};
+    s.v = (a_ * rate()) * Vec2{-sn, c};
+    s.omega = omega_;
+    return s;
+  }
+
+  /// One phase from the current state in the current direction: finds where it ends, then
+  /// integrates over it; updates the state, the clock and the impulses.
+  PhaseEnd phase(const Branch& b) {
+    const double psi_a = psi_, w_a = w_;
+    const double limit = dir_ > 0.0 ? arc_.psi_high : arc_.psi_low;
+    auto w_of = [&](double psi) { return b.W(psi_a, w_a, psi - psi_a); };
+    auto n_of = [&](double psi) { return b.normal(psi, w_of(psi)); };
+    auto roll_of = [&](double psi) { return rolling_margin(psi, n_of(psi), m_); };
+
+    // The closed-form events (take-off, turning point, loss of rolling): sample the range
+    // towards the arc's end and refine the first bracket of each function.
+    PhaseEnd why = PhaseEnd::Limit;
+    double psi_b = limit;
+    double prev = psi_a;
+    for (int j = 1; j <= event_samples && why == PhaseEnd::Limit; ++j) {
+      const double psi = j == event_samples ? limit : psi_a + (limit - psi_a) * j / event_samples;
+      auto check = [&](const auto& f, PhaseEnd kind) {
+        const double f_to = f(psi);
+        if (!(f_to <= 0.0)) return;
+        // Positive at prev: at the phase's start by construction, at later samples by the scan.
+        const double f_from = std::fmax(f(prev), std::numeric_limits<double>::min());
+        const double root = refine_between(f, prev, psi, f_from, f_to);
+        if (why == PhaseEnd::Limit || (root - psi_b) * dir_ < 0.0) {
+          psi_b = root;
+          why = kind;
+        }
+      };
+      check(n_of, PhaseEnd::TakeOff);
+      check(w_of, PhaseEnd::Turning);
+      if (b.regime == Regime::Rolling) check(roll_of, PhaseEnd::SlipOnset);
+      prev = psi;
+    }
+    const double w_b = why == PhaseEnd::Turning ? 0.0 : std::fmax(w_of(psi_b), 0.0);
+
+    // psi(x) = psi_a + (psi_b - psi_a)(1 - cos(pi x))/2 on x in [0, 1]: dpsi/dx vanishes like
+    // sqrt(W) at both ends, so dt/dx stays finite at turning points. Near a turning point at
+    // the end, W is taken from the solution through it (W = 0 there exactly), where the closed
+    // form keeps its relative accuracy; but only where the sliding solution's exponential does
+    // not amplify the rounding of that end (|k (psi - psi_b)| <= 1): elsewhere from the start.
+    const double span = psi_b - psi_a;
+    const double pi = std::numbers::pi;
+    // Offsets from both ends, each computed without cancellation: psi = psi_a + span sin^2(pi x/2)
+    // = psi_b - span cos^2(pi x/2).
+    auto offset_a = [&](double x) { const double s = std::sin(0.5 * pi * x); return span * s * s; };
+    auto offset_b = [&](double x) { const double c = std::cos(0.5 * pi * x); return -span * c * c; };
+    auto psi_at = [&](double x) { return x < 0.5 ? psi_a + offset_a(x) : psi_b + offset_b(x); };
+    auto w_at = [&](double x) {
+      const bool from_end = why == PhaseEnd::Turning && x >= 0.5 && std::fabs(b.k * offset_b(x)) <= 1.0;
+      return from_end ? b.W(psi_b, w_b, offset_b(x)) : b.W(psi_a, w_a, offset_a(x));
+    };
+    auto integrand = [&](double x) -> Vec4 {
+      const double psi = psi_at(x);
+      const double w = w_at(x);
+      if (!(w > 0.0)) return {0.0, 0.0, 0.0, 0.0};
+      const double dt = span * 0.5 * pi * std::sin(pi * x) / (dir_ * std::sqrt(w));
+      const double n = b.normal(psi, w);
+      const double f = b.friction(psi, n);
+      return {dt, std::cos(psi) * dt, n * dt, std::hypot(n, f) * dt};
+    };
+
+    Quadrature<decltype(integrand)> integrate(integrand, m_.mu);
+    Vec4 total{};
+    double x_end = 1.0;
+    const double l0 = a_ * a_ * rate() + m_.kappa * a_ * a_ * omega_;  // angular momentum about E
+    auto slip = [&](const Vec4& acc, double x) {
+      const double w = x == 1.0 ? w_b : std::fmax(w_at(x), 0.0);
+      const double rate_x = dir_ * std::sqrt(w);
+      return (l0 - a_ * acc[1]) / (m_.kappa * a_) - a_ * rate_x * (1.0 + m_.kappa) / m_.kappa;
+    };
+    if (span != 0.0) {
+      const int pieces = b.regime == Regime::Sliding ? slip_pieces : 1;
+      for (int j = 1; j <= pieces; ++j) {
+        const double x0 = static_cast<double>(j - 1) / pieces, x1 = static_cast<double>(j) / pieces;
+        const Vec4 piece = integrate(x0, x1);
+        Vec4 next = total;
+        for (int c = 0; c < 4; ++c) next[c] += piece[c];
+        if (b.regime == Regime::Sliding && b.sigma * slip(next, x1) <= 0.0) {
+          // The slip vanishes in this piece: find where, integrating from the piece's start.
+          auto signed_slip = [&](double x) {
+            Vec4 acc = total;
+            const Vec4 part = integrate(x0, x);
+            for (int c = 0; c < 4; ++c) acc[c] += part[c];
+            return b.sigma * slip(acc, x);
+          };
+          const double s_from = std::fmax(b.sigma * slip(total, x0), std::numeric_limits<double>::min());
+          x_end = refine_root(signed_slip, x0, x1, s_from, b.sigma * slip(next, x1));
+          const Vec4 part = integrate(x0, x_end);
+          for (int c = 0; c < 4; ++c) total[c] += part[c];
+          why = PhaseEnd::SlipZero;
+          break;
+        }
+        total = next;
+      }
+    }
+
+    // The state at the end of the phase.
+    const double psi_end = x_end == 1.0 ? psi_b : psi_at(x_end);
+    const double w_end = x_end == 1.0 ? w_b : std::fmax(w_at(x_end), 0.0);
+    psi_ = psi_end;
+    w_ = w_end;
+    res_.duration += total[0];
+    res_.normal_impulse += total[2];
+    res_.impulse += total[3];
+    if (b.regime == Regime::Rolling) {
+      res_.tangential_impulse += -m_.kappa / (1.0 + m_.kappa) * total[1];
+      omega_ = rate();
+    } else {
+      res_.tangential_impulse += -b.sigma * m_.mu * total[2];
+      omega_ = (l0 - a_ * total[1]) / (m_.kappa * a_ * a_) - rate() / m_.kappa;
+    }
+    return why;
+  }
+
+  const EdgeArc& arc_;
+  const Material& m_;
+  double a_;
+  double psi_ = 0.0, w_ = 0.0, dir_ = 1.0, omega_ = 0.0;
+  double e_start_ = 0.0;
+  EdgeContactResult res_;
+};
+
+}  // namespace
+
+double edge_normal_force(const State& s, Vec2 point, double radius) {
+  const Vec2 d = s.r - point;
+  return d.y / std::hypot(d.x, d.y) - dot(s.v, s.v) / radius;
+}
+
+EdgeContactResult edge_contact(const State& start, const EdgeArc& arc, const Material& m) {
+  return Contact(start, arc, m).run();
+}
+
+}  // namespace funnel
