@@ -146,51 +146,13 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
 
 void add_output_options(CLI::App& app, std::string& format, std::string& out) {
   app.add_option("--format", format, "output format: json or csv (default json)")->type_name("FMT");
-  app.add_option("--out", out, "output file, written atomically (default '-': standard output)")->type_name("FILE");
+  app.add_option("--out", out, "output file (default '-': standard output); a regular file is replaced atomically (through a symbolic link, its target), a device or FIFO is written through")->type_name("FILE");
 }
 
 Format to_format(const std::string& text) {
   if (text == "json") return Format::Json;
   if (text == "csv") return Format::Csv;
   throw UsageError("invalid format = '" + text + "': valid values are json, csv");
-}
-
-void check_writable(const std::string& path) {
-  if (path.empty() || path == "-") return;
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) {
-    throw UsageError("invalid out = '" + path + "': directory '" + dir.string() + "' does not exist");
-  }
-  if (fs::is_directory(target, ec)) throw UsageError("invalid out = '" + path + "': is a directory");
-  if (access(dir.c_str(), W_OK) != 0) {
-    throw UsageError("invalid out = '" + path + "': directory '" + dir.string() + "' is not writable");
-  }
-}
-
-void write_output(const std::string& path, const std::string& content) {
-  if (path.empty() || path == "-") {
-    std::cout << content << std::flush;
-    return;
-  }
-  check_writable(path);
-  const std::string tmp = path + ".tmp." + std::to_string(getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << content;
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw UsageError("cannot write '" + tmp + "': " + std::strerror(errno));
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw UsageError("cannot rename '" + tmp + "' to '" + path + "': " + why);
-  }
 }
 
 std::string number(double x) {

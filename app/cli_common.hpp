@@ -11,6 +11,7 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/grid.hpp"
 #include "funnel/params.hpp"
+#include "output_file.hpp"
 
 namespace funnel::cli {
 
@@ -53,13 +54,6 @@ struct EnsembleText {
 };
 void add_ensemble_options(CLI::App& app, EnsembleText& text);
 EnsembleOptions to_ensemble_options(const EnsembleText& text);
-
-/// Writes `content` to `path` through a temporary file and a rename, so that no partial
-/// file is ever left; "-" or "" writes to standard output. Throws UsageError on failure.
-void write_output(const std::string& path, const std::string& content);
-
-/// Checks before any work that `path` can be written (its directory exists); throws UsageError.
-void check_writable(const std::string& path);
 
 /// Adds --format (json or csv, default json) and --out (default '-': standard output).
 void add_output_options(CLI::App& app, std::string& format, std::string& out);

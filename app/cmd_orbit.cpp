@@ -98,6 +98,9 @@ void add_orbit_command(CLI::App& app, const std::string& command_line) {
   CLI::App* sub = app.add_subcommand(
       "orbit", "Eigenvalues and stability of the period-2 orbit (e = 1, sticking collisions) per grid point (Fig. 10).");
   add_model_options(*sub, cmd->model, true);
+  // The orbit is for e = 1 and sticking collisions: the other model options are refused in
+  // run() with that reason, and not listed by --help.
+  for (const char* name : {"--e", "--mu", "--gap", "--t-max", "--max-collisions"}) sub->get_option(name)->group("");
   sub->add_option("--y-star", cmd->y_star,
                   "orbit height y* for the Jacobians (the eigenvalues do not depend on it); > 0 (default 0.5)")
       ->type_name("Y");

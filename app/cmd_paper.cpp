@@ -1,7 +1,10 @@
 // `funnel paper`: every figure of the paper as data (CSV + JSON), pictures and an HTML report.
+#include <fcntl.h>
+#include <poll.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -9,6 +12,7 @@
 #include <iostream>
 #include <memory>
 #include <set>
+#include <sstream>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -66,22 +70,84 @@ std::string python_interpreter() {
   return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
 }
 
-/// Runs `python -m funnel.plot DIR`; returns false (after saying why) if it cannot.
-bool make_plots(const std::string& dir) {
+/// `relative` under the installation prefix of the running binary (PREFIX/bin/funnel), if that
+/// directory exists: an installed funnel uses its own figure definitions and Python package.
+std::string installed_dir(const std::string& relative) {
+  if (relative.empty()) return {};
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  const fs::path dir = exe.parent_path().parent_path() / relative;
+  return fs::is_directory(dir, ec) ? dir.string() : std::string();
+}
+
+std::string default_paper_dir() {
+  const std::string installed = installed_dir(FUNNEL_INSTALL_PAPER_DIR);
+  return installed.empty() ? FUNNEL_PAPER_DIR : installed;
+}
+
+/// Runs `python -m funnel.plot DIR` with a progress bar (figures whose PNG is written), showing
+/// what Python says apart from its per-figure lines; returns false (after saying why) if it fails.
+bool make_plots(const std::string& dir, const std::vector<FigureSpec>& figs) {
   const std::string python = python_interpreter();
-  std::string path = FUNNEL_PYTHON_PATH;
+  std::string path = installed_dir(FUNNEL_INSTALL_PYTHON_DIR);
+  if (path.empty()) path = FUNNEL_PYTHON_PATH;
   if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += std::string(":") + old;
+  int pipe_fd[2];
+  if (pipe2(pipe_fd, O_CLOEXEC) != 0) return false;
+  // Files older than this are from an earlier run (one second of slack for coarse file clocks).
+  const auto stage_start = fs::file_time_type::clock::now() - std::chrono::seconds(1);
+  std::fflush(stderr);
   const pid_t pid = fork();
   if (pid == 0) {
+    dup2(pipe_fd[1], STDERR_FILENO);
     setenv("PYTHONPATH", path.c_str(), 1);
     setenv("MPLBACKEND", "Agg", 1);
     execlp(python.c_str(), python.c_str(), "-m", "funnel.plot", dir.c_str(), static_cast<char*>(nullptr));
-    std::perror("funnel paper: cannot start python");
+    std::perror(("funnel paper: cannot start " + python).c_str());
     _exit(127);
   }
+  close(pipe_fd[1]);
+  if (pid < 0) {
+    close(pipe_fd[0]);
+    return false;
+  }
+  std::string said;
   int status = 0;
-  if (pid < 0 || waitpid(pid, &status, 0) < 0) return false;
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  {
+    ProgressBar bar("funnel paper: plots", true);
+    const auto drawn = [&] {
+      std::int64_t n = 0;
+      for (const FigureSpec& f : figs) {
+        std::error_code ec;
+        const auto t = fs::last_write_time(fs::path(dir) / f.id / (f.id + ".png"), ec);
+        n += !ec && t >= stage_start;
+      }
+      return n;
+    };
+    const auto total = static_cast<std::int64_t>(figs.size());
+    for (;;) {
+      pollfd pfd{pipe_fd[0], POLLIN, 0};
+      if (poll(&pfd, 1, 100) > 0) {
+        char buf[4096];
+        const ssize_t n = read(pipe_fd[0], buf, sizeof buf);
+        if (n == 0 || (n < 0 && errno != EINTR)) break;
+        if (n > 0) said.append(buf, static_cast<std::size_t>(n));
+      }
+      bar.update(drawn(), total);
+    }
+    close(pipe_fd[0]);
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    bar.finish(std::to_string(drawn()) + " of " + std::to_string(total) + " figures drawn");
+  }
+  const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  std::istringstream lines(said);
+  for (std::string line; std::getline(lines, line);) {
+    const bool per_figure = line.rfind("funnel.plot: wrote ", 0) == 0 && line.find("index.html") == std::string::npos;
+    if (!ok || !per_figure) std::cerr << line << "\n";
+  }
+  return ok;
 }
 
 struct PaperCommand {
@@ -90,7 +156,7 @@ struct PaperCommand {
   bool quick = false;
   bool no_plots = false;
   std::string threads = "0";
-  std::string paper_dir = FUNNEL_PAPER_DIR;
+  std::string paper_dir = default_paper_dir();
   std::string command_line;
 
   void run() const {
@@ -125,15 +191,21 @@ struct PaperCommand {
               << (quick ? " (quick preview)" : "") << "\n";
     const auto sweep_start = std::chrono::steady_clock::now();
     {
-      ProgressBar bar("θ sweeps");
+      ProgressBar bar("funnel paper: θ sweeps", true);
       cache.run(n_threads, [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); });
+      bar.finish(std::to_string(cache.size()) + " ensembles");
     }
     const double sweep_time = seconds_since(sweep_start);
 
     std::vector<std::pair<std::string, nlohmann::ordered_json>> checks;
     for (const FigureSpec& f : figs) {
       const auto t0 = std::chrono::steady_clock::now();
-      const FigureData data = compute_figure(f, cache, n_threads);
+      FigureData data;
+      {
+        // The theta sweeps ran above; the other kinds run here (Figs. 7, 11, 12 take a while).
+        ProgressBar bar("funnel paper: " + f.id);
+        data = compute_figure(f, cache, n_threads, [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); });
+      }
       // Theta-sweep figures share one batch: they report its time.
       const double run_time = f.kind == "theta_sweep" ? sweep_time : seconds_since(t0);
       const std::string dir = (fs::path(out) / f.id).string();
@@ -147,7 +219,7 @@ struct PaperCommand {
 
     if (no_plots) {
       std::cerr << "funnel paper: --no-plots: pictures and index.html not made\n";
-    } else if (!make_plots(out)) {
+    } else if (!make_plots(out, figs)) {
       std::cerr << "funnel paper: pictures not made: Python 3 with numpy and matplotlib is needed\n"
                    "  (Debian: apt-get install python3-numpy python3-matplotlib; or set FUNNEL_PYTHON);\n"
                    "  the data (CSV + JSON) is complete in "
@@ -174,7 +246,7 @@ void add_paper_command(CLI::App& app, const std::string& command_line) {
   sub->add_flag("--quick", cmd->quick, "coarse grids and few samples: a preview in well under a minute");
   sub->add_flag("--no-plots", cmd->no_plots, "write the data only, do not call the Python plotting module");
   sub->add_option("--threads", cmd->threads, "worker threads; integer >= 1, or 0 = all cores (default 0)")->type_name("T");
-  sub->add_option("--paper-dir", cmd->paper_dir, "directory of the figure definitions (default: the source tree's paper/)")
+  sub->add_option("--paper-dir", cmd->paper_dir, "directory of the figure definitions (default: the installation's share/funnel/paper, else the source tree's paper/)")
       ->type_name("DIR");
   sub->callback([cmd] { cmd->run(); });
 }

@@ -1,10 +1,13 @@
 // `funnel sweep`: one ensemble per point of a parameter grid, written as CSV.
-#include <toml++/toml.h>
+#include <signal.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -17,42 +20,114 @@
 #include "funnel/version.hpp"
 #include "output.hpp"
 #include "progress.hpp"
+#include "sweep_config.hpp"
 
 namespace funnel::cli {
 
 namespace {
 
-/// A TOML number as text. Integers are written exactly: toml++ gives no value<double>() for
-/// |i| > 2^53, and dereferencing that empty optional ran the sweep with a garbage value
-/// (theta = 9007199254740993 ran at theta = 6.9e-310; found writing fuzz/fuzz_parse).
-std::string toml_number_text(const toml::node& node) {
-  if (const auto* i = node.as_integer()) return std::to_string(i->get());
-  return number(node.as_floating_point()->get());
+/// Cost of one trajectory in the run-time estimate, seconds per thread: the reference ensemble
+/// (theta = 60, e = 0.99, mu = 1; docs/performance.md) runs 223 000 trajectories per second on
+/// one thread, 4.5 us each, rounded up. Long-lived trajectories (e near 1, mu = 0) cost more.
+constexpr double seconds_per_trajectory = 5e-6;
+/// A sweep with more points, or a longer estimate, runs only with --yes.
+constexpr double max_points_unasked = 1e6;
+constexpr double max_seconds_unasked = 3600.0;
+
+std::string duration_text(double s) {
+  char buf[64];
+  if (s < 120.0) {
+    std::snprintf(buf, sizeof buf, "%.0f s", s);
+  } else if (s < 7200.0) {
+    std::snprintf(buf, sizeof buf, "%.0f min", s / 60.0);
+  } else if (s < 172800.0) {
+    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600.0);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.1f days", s / 86400.0);
+  }
+  return buf;
 }
 
-/// Text of a TOML value as the command line would give it: a number, a list or a range.
-std::string toml_value_text(const std::string& key, const toml::node& node, const std::string& file) {
-  if (node.is_string()) return *node.value<std::string>();
-  if (node.is_integer() || node.is_floating_point()) return toml_number_text(node);
-  if (const toml::array* arr = node.as_array()) {
-    std::string text;
-    for (const toml::node& item : *arr) {
-      if (!(item.is_integer() || item.is_floating_point())) {
-        throw UsageError("invalid " + key + " in config '" + file + "': arrays must hold numbers only");
-      }
-      text += (text.empty() ? "" : ",") + toml_number_text(item);
-    }
-    if (text.empty()) throw UsageError("invalid " + key + " in config '" + file + "': empty array");
-    return text;
-  }
-  throw UsageError("invalid " + key + " in config '" + file + "': expected a number, an array or a string");
+std::string count_text(double n) {
+  if (n < 1e15) return std::to_string(static_cast<std::int64_t>(n));
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", n);
+  return buf;
 }
 
-std::string canonical_key(std::string key) {
-  for (char& c : key) {
-    if (c == '_') c = '-';
+// ---- What an interruption (Ctrl-C, kill) prints ----
+// Prepared before the run: a signal handler may only call async-signal-safe functions.
+std::string interrupt_head;
+std::string interrupt_tail;
+std::atomic<std::int64_t> points_saved{0};
+static_assert(std::atomic<std::int64_t>::is_always_lock_free);
+
+void write_stderr(const char* text, std::size_t n) {
+  while (n > 0) {
+    const ssize_t k = ::write(STDERR_FILENO, text, n);
+    if (k <= 0) return;
+    text += k;
+    n -= static_cast<std::size_t>(k);
   }
-  return key;
+}
+
+void on_interrupt(int sig) {
+  write_stderr(interrupt_head.data(), interrupt_head.size());
+  char digits[24];
+  int n = 0;
+  std::int64_t v = points_saved.load();
+  do {
+    digits[sizeof digits - 1 - n++] = static_cast<char>('0' + v % 10);
+    v /= 10;
+  } while (v > 0 && n < 20);
+  write_stderr(digits + sizeof digits - n, static_cast<std::size_t>(n));
+  write_stderr(interrupt_tail.data(), interrupt_tail.size());
+  // SA_RESETHAND restored the default action: once this returns, the signal ends the process
+  // as it would have without the handler (the exit status still says "killed by SIGINT").
+  raise(sig);
+}
+
+/// Prints where the finished points are and how to resume if SIGINT or SIGTERM arrives while
+/// it lives; the previous handlers are restored at the end.
+class InterruptNotice {
+ public:
+  InterruptNotice(std::string head, std::string tail) {
+    interrupt_head = std::move(head);
+    interrupt_tail = std::move(tail);
+    struct sigaction sa {};
+    sa.sa_handler = on_interrupt;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~InterruptNotice() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  InterruptNotice(const InterruptNotice&) = delete;
+  InterruptNotice& operator=(const InterruptNotice&) = delete;
+
+ private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+/// The command line to continue an interrupted run: --overwrite dropped, --resume added.
+std::string resume_command(const std::string& command_line) {
+  std::string cmd = " " + command_line + " ";
+  for (std::size_t at; (at = cmd.find(" --overwrite ")) != std::string::npos;) cmd.erase(at, 12);
+  cmd = cmd.substr(1, cmd.size() - 2);
+  if ((" " + cmd + " ").find(" --resume ") == std::string::npos) cmd += " --resume";
+  return cmd;
+}
+
+/// Finished points in a partial file: its lines after the spec and the header.
+std::int64_t partial_points(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::int64_t lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  return std::max<std::int64_t>(0, lines - 2);
 }
 
 struct SweepCommand {
@@ -61,43 +136,47 @@ struct SweepCommand {
   std::string config;
   std::string out;
   bool resume = false;
+  bool overwrite = false;
+  bool yes = false;
   std::string command_line;
 
-  /// Fills the options the command line did not give from the TOML file.
-  void read_config(ModelOptions& merged, EnsembleText& merged_ens, bool samples_given, bool dist_given) const {
-    toml::table tbl;
-    try {
-      tbl = toml::parse_file(config);
-    } catch (const toml::parse_error& err) {
-      throw UsageError("invalid config = '" + config + "': " + std::string(err.description()));
+  /// Refuses, without --yes, a grid over 10^6 points or an estimated run time over an hour.
+  void check_size(const std::vector<Axis>& axes, const EnsembleOptions& options) const {
+    double points = 1.0;
+    std::string dims;
+    for (const Axis& a : axes) {
+      points *= static_cast<double>(a.values.size());
+      if (a.values.size() > 1) dims += (dims.empty() ? "" : " x ") + a.name + " " + std::to_string(a.values.size());
     }
-    const auto& names = sweep_parameter_names();
-    for (auto&& [k, node] : tbl) {
-      const std::string key = canonical_key(std::string(k.str()));
-      const std::string text = toml_value_text(key, node, config);
-      if (key == "samples") {
-        if (!samples_given) merged_ens.samples = text;
-      } else if (key == "release-dist") {
-        if (!dist_given) merged_ens.release_dist = text;
-      } else if (std::find(names.begin(), names.end(), key) != names.end()) {
-        merged.given.emplace(key, text);  // the command line wins
-      } else {
-        throw UsageError("invalid key '" + std::string(k.str()) + "' in config '" + config +
-                         "': valid keys are samples, release-dist and the model parameters");
-      }
-    }
+    const int threads = resolve_threads(options.threads);
+    const double trajectories = points * static_cast<double>(options.samples);
+    const double seconds = trajectories * seconds_per_trajectory / threads;
+    if (yes || (points <= max_points_unasked && seconds <= max_seconds_unasked)) return;
+    throw UsageError("this sweep needs --yes: " + count_text(points) + " points" +
+                     (dims.empty() ? "" : " (" + dims + ")") + " x " + std::to_string(options.samples) + " samples = " +
+                     count_text(trajectories) + " trajectories, estimated " + duration_text(seconds) + " on " +
+                     std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
+                     " (at 5 us per trajectory and thread; more when e is near 1 or mu = 0). Over 10^6 points or "
+                     "an hour, add --yes to run it, or use a coarser grid or fewer samples");
   }
 
   void run(bool samples_given, bool dist_given) const {
     const auto start = std::chrono::steady_clock::now();
     ModelOptions merged = model;
     EnsembleText merged_ens = ens;
-    if (!config.empty()) read_config(merged, merged_ens, samples_given, dist_given);
+    if (!config.empty()) {
+      const SweepConfig file = read_sweep_config(config);
+      for (const auto& [name, text] : file.params) merged.given.emplace(name, text);  // the command line wins
+      if (file.samples && !samples_given) merged_ens.samples = *file.samples;
+      if (file.release_dist && !dist_given) merged_ens.release_dist = *file.release_dist;
+    }
+    if (resume && overwrite) throw UsageError("invalid options: --resume and --overwrite exclude each other");
     const std::vector<Axis> axes = to_axes(merged);
+    const EnsembleOptions options = to_ensemble_options(merged_ens);
+    check_size(axes, options);
     const std::vector<Params> points = expand_grid(default_params(), axes);
     validate_all(points);
-    const EnsembleOptions options = to_ensemble_options(merged_ens);
-    check_writable(out);
+    const OutputTarget target = resolve_output(out);
 
     std::vector<std::string> cols = param_columns();
     cols.push_back("release_dist");
@@ -112,12 +191,25 @@ struct SweepCommand {
     for (const Axis& a : axes) spec["grid"].push_back({{"name", a.name}, {"values", a.values}});
     const std::string spec_line = "# funnel sweep spec: " + spec.dump() + "\n";
 
-    // Rows already computed by an interrupted run ("point,<row>"), by grid index.
-    const std::string partial = out + ".partial";
+    // Rows already computed by an interrupted run ("point,<row>"), by grid index. A partial
+    // file lives beside a regular output file only (not beside a device, FIFO or stdout).
+    std::string partial;
     std::map<std::size_t, std::string> done;
-    if (resume) done = read_partial(partial, spec_line, header, points.size());
-    write_partial_start(partial, spec_line, header, done);
-    if (!done.empty()) std::cerr << "funnel sweep: resuming: " << done.size() << " of " << points.size() << " points already done\n";
+    if (target.regular()) {
+      partial = target.path + ".partial";
+      if (!resume && !overwrite && std::filesystem::exists(partial)) {
+        throw UsageError("'" + partial + "' holds " + std::to_string(partial_points(partial)) +
+                         " finished points of an interrupted sweep: add --resume to continue it (same grid and "
+                         "options), or --overwrite to discard them and start again");
+      }
+      if (resume) done = read_partial(partial, spec_line, header, points.size());
+      write_partial_start(partial, spec_line, header, done);
+      if (!done.empty()) {
+        std::cerr << "funnel sweep: resuming: " << done.size() << " of " << points.size() << " points already done\n";
+      }
+    } else if (resume) {
+      throw UsageError("invalid resume: --out '" + out + "' is not a regular file, so there is no partial file to resume from");
+    }
 
     std::vector<Params> todo;
     std::vector<std::size_t> todo_index;
@@ -127,11 +219,26 @@ struct SweepCommand {
         todo_index.push_back(i);
       }
     }
+    const std::string total = std::to_string(points.size());
+    points_saved = static_cast<std::int64_t>(done.size());
     {
+      const InterruptNotice notice =
+          target.regular()
+              ? InterruptNotice("\nfunnel sweep: interrupted; ",
+                                " of " + total + " points are saved in '" + partial +
+                                    "'.\nTo continue without recomputing them, run the same command with --resume:\n  " +
+                                    resume_command(command_line) + "\n")
+              : InterruptNotice("\nfunnel sweep: interrupted after ",
+                                " of " + total + " points; nothing is saved: --out '" + out +
+                                    "' is not a regular file, so there is no partial file to resume from.\n");
       // Each finished point is appended (one write, flushed) so that an interruption keeps it.
-      std::FILE* f = std::fopen(partial.c_str(), "ab");
-      if (f == nullptr) throw UsageError("cannot append to '" + partial + "': " + std::strerror(errno));
-      ProgressBar bar("sweep");
+      std::FILE* f = nullptr;
+      if (target.regular()) {
+        f = std::fopen(partial.c_str(), "ab");
+        if (f == nullptr) throw OutputError("cannot append to '" + partial + "': " + std::strerror(errno));
+      }
+      int append_error = 0;
+      ProgressBar bar("funnel sweep", true);
       run_sweep(
           todo, options, [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); },
           [&](std::size_t k, const EnsembleResult& r) {
@@ -140,23 +247,36 @@ struct SweepCommand {
             row.emplace_back(to_string(options.dist));
             for (const auto& v : ensemble_row(r)) row.push_back(v);
             done[i] = csv_line(row);
-            const std::string line = std::to_string(i) + "," + done[i];
-            std::fwrite(line.data(), 1, line.size(), f);
-            std::fflush(f);
+            if (f != nullptr) {
+              const std::string line = std::to_string(i) + "," + done[i];
+              if ((std::fwrite(line.data(), 1, line.size(), f) != line.size() || std::fflush(f) != 0) && append_error == 0) {
+                append_error = errno;
+              }
+            }
+            ++points_saved;
           });
-      std::fclose(f);
+      bar.finish(std::to_string(todo.size()) + " of " + total + " points computed");
+      if (f != nullptr) std::fclose(f);
+      if (append_error != 0) {
+        std::cerr << "funnel sweep: warning: could not append to '" << partial << "': " << std::strerror(append_error)
+                  << " (an interruption would have lost points; the result below is complete)\n";
+      }
     }
 
     std::string text = header;
     for (std::size_t i = 0; i < points.size(); ++i) text += done.at(i);
     write_output(out, text);
+    if (!target.regular()) {
+      std::cerr << "funnel sweep: provenance (FILE.csv.json) not written: --out '" << out << "' is not a regular file\n";
+      return;
+    }
     nlohmann::ordered_json meta;
     meta["provenance"] = provenance_json(command_line);
     meta["spec"] = spec;
     meta["points"] = points.size();
     meta["resumed_points"] = points.size() - todo.size();
     meta["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    write_output(out + ".json", meta.dump(2) + "\n");
+    write_output(target.path + ".json", meta.dump(2) + "\n");
     std::remove(partial.c_str());
   }
 
@@ -171,7 +291,7 @@ struct SweepCommand {
     const std::string text = buffer.str();
     if (text.rfind(spec_line + "point," + header, 0) != 0) {
       throw UsageError("invalid resume: '" + path + "' was made by a different sweep (grid, samples, release-dist "
-                       "or funnel version); remove it or run without --resume");
+                       "or funnel version); run with --overwrite instead of --resume to discard it");
     }
     std::size_t pos = spec_line.size() + 6 + header.size();
     for (std::size_t eol; (eol = text.find('\n', pos)) != std::string::npos; pos = eol + 1) {
@@ -203,11 +323,16 @@ void add_sweep_command(CLI::App& app, const std::string& command_line) {
   add_model_options(*sub, cmd->model, true);
   add_ensemble_options(*sub, cmd->ens);
   sub->add_option("--config", cmd->config,
-                  "TOML file with the grid: keys theta, e, mu, ... (number, array or \"start:stop:step\"), "
-                  "samples, release-dist; command-line options override it")
+                  "TOML file with the grid: model parameters (number, array or \"start:stop:step\") at the top "
+                  "level or in a [grid] table, samples, release-dist; command-line options override it")
       ->type_name("FILE.toml");
   sub->add_flag("--resume", cmd->resume,
                 "continue an interrupted sweep from FILE.csv.partial: finished points are not recomputed");
+  sub->add_flag("--overwrite", cmd->overwrite,
+                "discard the finished points of an interrupted sweep (FILE.csv.partial) and start again");
+  sub->add_flag("--yes", cmd->yes,
+                "run a grid of more than 10^6 points, or one estimated to take over an hour (points x samples x "
+                "5 us / threads), without refusing");
   sub->add_option("--out", cmd->out,
                   "output CSV file, one row per grid point, written atomically at the end (with FILE.csv.json: "
                   "provenance); while running, finished points are appended to FILE.csv.partial")

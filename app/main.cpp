@@ -1,4 +1,4 @@
-// funnel: command-line entry point. Bad input exits with code 2 and writes no file.
+// funnel: command-line entry point. Bad input exits with code 2 and writes no file; a failed write exits 1.
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -6,6 +6,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "suggest.hpp"
 #include "funnel/version.hpp"
 
 int main(int argc, char** argv) {
@@ -33,11 +34,19 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    std::cerr << "funnel: error: " << e.what() << "\nRun 'funnel --help' for the options.\n";
+    // An unknown word gets its nearest valid one; other parse errors keep CLI11's message.
+    if (const auto why = funnel::cli::explain_unknown(app, argc, argv)) {
+      std::cerr << "funnel: error: " << *why << "\n";
+    } else {
+      std::cerr << "funnel: error: " << e.what() << "\n" << funnel::cli::help_hint(app, argc, argv) << "\n";
+    }
     return 2;
   } catch (const funnel::cli::UsageError& e) {
     std::cerr << "funnel: error: " << e.what() << "\n";
     return 2;
+  } catch (const funnel::cli::OutputError& e) {
+    std::cerr << "funnel: error: " << e.what() << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "funnel: internal error: " << e.what() << "\n";
     return 1;

@@ -161,7 +161,7 @@ double smoothness(const std::vector<Sample>& samples, double tol) {
   return samples.size() > 1 ? static_cast<double>(close) / static_cast<double>(samples.size() - 1) : 0.0;
 }
 
-FigureData release_scan(const FigureSpec& fig, int threads) {
+FigureData release_scan(const FigureSpec& fig, int threads, const Progress& progress) {
   FigureData out;
   out.csv = csv_line({"panel", "theta", "release", "duration", "status", "collisions"});
   out.extra["panels"] = value_panels(fig.thetas, "θ", "°");
@@ -170,7 +170,12 @@ FigureData release_scan(const FigureSpec& fig, int threads) {
   for (std::size_t i = 0; i < fig.thetas.size(); ++i) {
     Params p = panel_params(fig, fig.panels.front());
     p.theta = fig.thetas[i];
-    const EnsembleResult r = run_ensemble(p, {fig.samples, dist_of(fig.dists.front()), threads, true});
+    const auto n = static_cast<std::int64_t>(fig.thetas.size());
+    const auto k = static_cast<std::int64_t>(i);
+    const EnsembleResult r = run_ensemble(p, {fig.samples, dist_of(fig.dists.front()), threads, true},
+                                          [&](std::int64_t d, std::int64_t t) {
+                                            if (progress) progress(k * t + d, n * t);
+                                          });
     const std::string panel(1, static_cast<char>('a' + i));
     for (const Sample& s : r.per_sample) {
       out.csv += csv_line({panel, number(p.theta), number(s.fraction), number(s.trajectory.duration),
@@ -273,7 +278,7 @@ FigureData eigenvalue_figure(const FigureSpec& fig) {
 
 // ---- Figs. 11 and 12: closed funnel ----
 
-FigureData closed_final(const FigureSpec& fig, int threads) {
+FigureData closed_final(const FigureSpec& fig, int threads, const Progress& progress) {
   FigureData out;
   out.csv = csv_line({"panel", "mu", "release", "state", "x1_over_L", "x2_over_L"});
   out.extra["panels"] = value_panels(fig.mus, "μ", "");
@@ -284,6 +289,7 @@ FigureData closed_final(const FigureSpec& fig, int threads) {
     p.mu = fig.mus[i];
     const double half_width = make_geometry(p).half_width;
     const ClosedResult r = run_closed(p, {fig.samples, dist_of(fig.dists.front()), threads, false}, {});
+    if (progress) progress(static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(fig.mus.size()));
     const std::string panel(1, static_cast<char>('a' + i));
     for (const ClosedSample& s : r.samples) {
       out.csv += csv_line({panel, number(p.mu), number(s.fraction), std::string(to_string(s.state)),
@@ -303,7 +309,7 @@ FigureData closed_final(const FigureSpec& fig, int threads) {
   return out;
 }
 
-FigureData periodic_fraction(const FigureSpec& fig, int threads) {
+FigureData periodic_fraction(const FigureSpec& fig, int threads, const Progress& progress) {
   FigureData out;
   out.csv = csv_line({"theta", "mu", "periodic_fraction"});
   std::map<std::pair<double, double>, double> frac;
@@ -314,6 +320,7 @@ FigureData periodic_fraction(const FigureSpec& fig, int threads) {
       p.mu = mu;
       const ClosedResult r = run_closed(p, {fig.samples, dist_of(fig.dists.front()), threads, false}, {});
       frac[{theta, mu}] = r.periodic_fraction;
+      if (progress) progress(static_cast<std::int64_t>(frac.size()), static_cast<std::int64_t>(fig.thetas.size() * fig.mus.size()));
       out.csv += csv_line({number(theta), number(mu), number(r.periodic_fraction)});
     }
   }
@@ -386,13 +393,13 @@ void request_sweeps(const FigureSpec& fig, SweepCache& cache) {
   }
 }
 
-FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int threads) {
+FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int threads, const Progress& progress) {
   if (fig.kind == "theta_sweep") return theta_sweep(fig, cache);
-  if (fig.kind == "release_scan") return release_scan(fig, threads);
+  if (fig.kind == "release_scan") return release_scan(fig, threads, progress);
   if (fig.kind == "trajectories") return trajectories(fig);
   if (fig.kind == "eigenvalues") return eigenvalue_figure(fig);
-  if (fig.kind == "closed_final") return closed_final(fig, threads);
-  if (fig.kind == "periodic_fraction") return periodic_fraction(fig, threads);
+  if (fig.kind == "closed_final") return closed_final(fig, threads, progress);
+  if (fig.kind == "periodic_fraction") return periodic_fraction(fig, threads, progress);
   throw UsageError("invalid figure definition '" + fig.source + "': unknown kind '" + fig.kind + "'");
 }
 

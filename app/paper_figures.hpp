@@ -49,7 +49,8 @@ struct FigureData {
 /// Adds the ensembles a theta-sweep figure needs to the cache (nothing for other kinds).
 void request_sweeps(const FigureSpec& fig, SweepCache& cache);
 
-/// Computes a figure (theta sweeps are read from the cache, which must have run).
-FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int threads);
+/// Computes a figure (theta sweeps are read from the cache, which must have run); `progress`
+/// hears of the figure's own runs (release scans, closed-funnel ensembles).
+FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int threads, const Progress& progress = {});
 
 }  // namespace funnel::cli

@@ -1,24 +1,60 @@
-// Terminal progress bar.
+// Terminal progress bar and per-stage summaries.
 #include "progress.hpp"
 
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <exception>
 
 namespace funnel::cli {
 
-ProgressBar::ProgressBar(std::string label, bool force)
-    : label_(std::move(label)), enabled_(force || isatty(STDERR_FILENO) != 0),
-      start_(std::chrono::steady_clock::now()), last_(start_) {}
+namespace {
+
+enum class Mode { Auto, Always, Never };
+
+Mode mode_from_environment() {
+  const char* env = std::getenv("FUNNEL_PROGRESS");
+  if (env == nullptr) return Mode::Auto;
+  const std::string v = env;
+  if (v == "always") return Mode::Always;
+  if (v == "never") return Mode::Never;
+  return Mode::Auto;
+}
+
+}  // namespace
+
+ProgressBar::ProgressBar(std::string label, bool summary)
+    : label_(std::move(label)), start_(std::chrono::steady_clock::now()), last_(start_) {
+  const Mode mode = mode_from_environment();
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  bar_ = mode == Mode::Always || (mode == Mode::Auto && tty);
+  summary_ = summary && mode != Mode::Never && !bar_;
+}
 
 ProgressBar::~ProgressBar() {
+  if (std::uncaught_exceptions() > 0) {
+    if (drawn_) std::fputc('\n', stderr);
+    return;
+  }
+  finish();
+}
+
+void ProgressBar::finish(const std::string& what) {
+  if (finished_) return;
+  finished_ = true;
   if (drawn_) std::fputc('\n', stderr);
+  if (summary_) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    std::fprintf(stderr, "%s: %s in %.1f s\n", label_.c_str(), what.c_str(), elapsed);
+  }
+  std::fflush(stderr);
 }
 
 void ProgressBar::update(std::int64_t done, std::int64_t total) {
-  if (!enabled_ || total <= 0) return;
+  if (!bar_ || finished_ || total <= 0) return;
   const auto now = std::chrono::steady_clock::now();
-  if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+  if (done < total && drawn_ && now - last_ < std::chrono::milliseconds(100)) return;
   last_ = now;
   const double frac = static_cast<double>(done) / static_cast<double>(total);
   const double elapsed = std::chrono::duration<double>(now - start_).count();

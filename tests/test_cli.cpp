@@ -4,69 +4,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <thread>
 
+#include "cli_util.hpp"
+
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(FUNNEL_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string read_source(const std::string& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("funnel_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
-  std::string read(const std::string& name) const {
-    std::ifstream in(path(name));
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-  /// Only the files the test itself created are in the directory.
-  std::size_t file_count() const { return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), {})); }
-
-  fs::path dir_;
-};
-
-void expect_rejected(const Result& r, const std::string& name, const std::string& value) {
-  EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find(name), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find(value), std::string::npos) << r.output;
-}
+using namespace funnel_test;
 
 TEST_F(Cli, OutOfRangeNanInfAndNonNumbersNameTheParameterValueAndRange) {
   const std::string base = "trajectory --release 0.3 --out " + path("t.json") + " ";
@@ -185,7 +130,7 @@ TEST_F(Cli, ClosedReportsThePeriodicFraction) {
   EXPECT_NE(json.find("\"periodic_fraction\": 1.0"), std::string::npos) << json.substr(0, 600);
   EXPECT_NE(json.find("\"x_last_over_L\""), std::string::npos);
   expect_rejected(run("closed --gap 0.04 --out " + path("x.json")), "gap", "0.04");
-  expect_rejected(run("closed --max-time 0 --out " + path("x.json")), "max-time", "0");
+  expect_rejected(run("closed --t-max 0 --out " + path("x.json")), "t-max", "0");
 }
 
 TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
@@ -217,11 +162,11 @@ TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
   expect_rejected(run("paper --quick --only fig99 --out " + path("p2")), "only", "fig99");
 }
 
-/// Starts `funnel ARGS` in the background; returns its pid.
-pid_t spawn(const std::string& args) {
+/// Starts `funnel ARGS` in the background, its stderr into `err`; returns its pid.
+pid_t spawn(const std::string& args, const std::string& err = "/dev/null") {
   const pid_t pid = fork();
   if (pid == 0) {
-    const std::string cmd = "exec " + std::string(FUNNEL_BINARY) + " " + args + " > /dev/null 2>&1";
+    const std::string cmd = "exec " + std::string(FUNNEL_BINARY) + " " + args + " > /dev/null 2> " + err;
     execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -240,7 +185,7 @@ TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
   // Interrupt twice (Ctrl-C, then kill -9) once a few points are in, then resume to the end.
   int resumed_from = 0;
   for (const int sig : {SIGINT, SIGKILL}) {
-    const pid_t pid = spawn(grid + path("cut.csv") + (sig == SIGKILL ? " --resume" : ""));
+    const pid_t pid = spawn(grid + path("cut.csv") + (sig == SIGKILL ? " --resume" : ""), path("stderr.txt"));
     bool killed = false;
     for (int i = 0; i < 2000 && !killed; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -255,6 +200,19 @@ TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
     EXPECT_EQ(partial.rfind("# funnel sweep spec: ", 0), 0u);
     EXPECT_GE(partial_rows(partial), resumed_from + 3);
     resumed_from = partial_rows(partial);
+    if (sig == SIGINT) {
+      // Ctrl-C says where the finished points are and how to continue.
+      const std::string said = read("stderr.txt");
+      EXPECT_NE(said.find("interrupted"), std::string::npos) << said;
+      EXPECT_NE(said.find(path("cut.csv.partial")), std::string::npos) << said;
+      EXPECT_NE(said.find(path("cut.csv") + " --resume"), std::string::npos) << said;
+      // The same sweep again without --resume does not silently throw those points away.
+      const Result again = run(grid + path("cut.csv"));
+      EXPECT_EQ(again.code, 2) << again.output;
+      EXPECT_NE(again.output.find("--resume"), std::string::npos) << again.output;
+      EXPECT_NE(again.output.find("--overwrite"), std::string::npos) << again.output;
+      EXPECT_EQ(read("cut.csv.partial"), partial);
+    }
   }
   const Result r = run(grid + path("cut.csv") + " --resume");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -262,9 +220,15 @@ TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
   EXPECT_EQ(read("cut.csv"), read("full.csv"));
   EXPECT_FALSE(fs::exists(path("cut.csv.partial")));
   EXPECT_NE(read("cut.csv.json").find("\"resumed_points\""), std::string::npos);
-  // A partial file of another sweep is refused, not mixed in.
+  // A partial file of another sweep is refused, not mixed in; --overwrite discards it.
   write("other.csv.partial", "# funnel sweep spec: {}\npoint,theta\n");
-  expect_rejected(run("sweep --theta 40 --samples 10 --resume --out " + path("other.csv")), "resume", "different sweep");
+  const std::string other = "sweep --theta 40 --samples 10 --out " + path("other.csv");
+  expect_rejected(run(other + " --resume"), "resume", "different sweep");
+  expect_rejected(run(other + " --resume --overwrite"), "--resume and --overwrite", "exclude");
+  ASSERT_EQ(run(other + " --overwrite").code, 0);
+  const std::string csv = read("other.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2);
+  EXPECT_FALSE(fs::exists(path("other.csv.partial")));
 }
 
 TEST_F(Cli, PaperChecksCanFail) {

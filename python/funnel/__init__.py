@@ -19,6 +19,18 @@ Plots of the paper's figures: ``python -m funnel.plot OUTDIR`` (module :mod:`fun
 which imports matplotlib only when used). See docs/python.md.
 """
 
+import sys as _sys
+
+try:
+    import numpy as _numpy  # noqa: F401  (every result holds numpy arrays)
+except ImportError as _error:
+    raise ImportError(
+        f"funnel needs numpy, which this Python ({_sys.executable}, {_sys.version.split()[0]}) cannot import. "
+        "Use Debian's /usr/bin/python3, which has numpy and matplotlib (apt-get install python3-numpy "
+        "python3-matplotlib) and for which funnel's compiled module is built, e.g. "
+        "PYTHONPATH=build/python /usr/bin/python3; or install numpy for this interpreter."
+    ) from _error
+
 from ._api import (
     DEFAULT_SAMPLES,
     MODEL_PARAMETERS,

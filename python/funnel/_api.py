@@ -35,9 +35,15 @@ DEFAULT_SAMPLES = 4000
 
 def _core():
     if _funnel is None:
+        import sys
+        from pathlib import Path
+        built = sorted(p.name for p in Path(__file__).parent.glob("_funnel*.so"))
         raise ImportError(
             "funnel's compiled module funnel._funnel is not importable (build it with CMake and put "
-            f"<build>/python on PYTHONPATH; see docs/python.md): {_import_error}")
+            f"<build>/python on PYTHONPATH; see docs/python.md): {_import_error}"
+            + (f"; found {', '.join(built)}, which must match this Python ({sys.executable}, "
+               f"{sys.version.split()[0]}): use the interpreter it was built for, Debian's /usr/bin/python3"
+               if built else ""))
     return _funnel
 
 
@@ -278,6 +284,9 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4
            window=20, slip_tol=1e-6, height_tol=1e-6, **model):
     """Long-time state of every release in a closed funnel (gap 0), like ``funnel closed``.
 
+    As there, e defaults to 1 (the paper's Figs. 11 and 12: with e < 1 every release ends at
+    rest), and the model's t_max and max_collisions, if given, are the caps max_time and max_coll.
+
     A release is ``periodic`` once ``window`` consecutive collisions alternate walls, have
     |slip| <= slip_tol * speed and repeat the previous height within height_tol (relative);
     ``rest`` when it lost all its energy; ``undecided`` if max_time or max_coll came first.
@@ -294,6 +303,9 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4
     >>> c = funnel.closed(theta=50, e=1, mu=0.1, samples=400)
     >>> c["periodic_fraction"]
     """
+    model = {"e": 1.0, **model}
+    max_time = model.pop("t_max", max_time)
+    max_coll = model.pop("max_collisions", max_coll)
     return _core().closed(_model("closed", model), _count("samples", samples), str(release_dist),
                           _count("threads", threads), _scalar("max_time", max_time),
                           _count("max_coll", max_coll), _count("window", window),

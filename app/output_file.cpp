@@ -1,0 +1,179 @@
+// Output files: atomic replacement of regular files, write-through for devices, FIFOs and stdout.
+#include "output_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <optional>
+
+#include "cli_common.hpp"
+
+namespace funnel::cli {
+
+namespace {
+
+/// Symbolic links followed before giving up, as the kernel does (MAXSYMLINKS).
+constexpr int max_links = 40;
+
+std::string error_text(int err) { return std::strerror(err); }
+
+/// The descriptor a path names without being a file: "-", /dev/stdout, /dev/fd/N, /proc/self/fd/N.
+/// Writing to the descriptor itself keeps the shell's redirection (its offset, its append mode).
+std::optional<int> descriptor_alias(const std::string& path) {
+  if (path.empty() || path == "-" || path == "/dev/stdout") return 1;
+  if (path == "/dev/stderr") return 2;
+  const std::string prefixes[] = {"/dev/fd/", "/proc/self/fd/", "/proc/" + std::to_string(getpid()) + "/fd/"};
+  for (const std::string& prefix : prefixes) {
+    if (path.size() > prefix.size() && path.compare(0, prefix.size(), prefix) == 0 && path.size() - prefix.size() <= 6 &&
+        path.find_first_not_of("0123456789", prefix.size()) == std::string::npos) {
+      return std::stoi(path.substr(prefix.size()));
+    }
+  }
+  return std::nullopt;
+}
+
+std::string parent_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+/// "'out.csv'", or "'link.csv' (a link to 'data/out.csv')" when the target differs.
+std::string describe(const std::string& path, const std::string& target) {
+  std::string s = "'" + path + "'";
+  if (!target.empty() && target != path) s += " (a link to '" + target + "')";
+  return s;
+}
+
+void check_directory(const std::string& path, const std::string& target) {
+  const std::string dir = parent_of(target);
+  struct stat st {};
+  if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
+    throw UsageError("invalid out = " + describe(path, target) + ": directory '" + dir + "' does not exist");
+  }
+  if (access(dir.c_str(), W_OK) != 0) {
+    throw UsageError("invalid out = " + describe(path, target) + ": directory '" + dir + "' is not writable");
+  }
+}
+
+/// Writes all of `content` to `fd`; returns 0 or the errno of the failure.
+int write_all(int fd, const std::string& content) {
+  std::size_t done = 0;
+  while (done < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  return 0;
+}
+
+/// A regular file: a temporary file in the same directory (so the rename is atomic), flushed to
+/// disk, with the permissions of the file it replaces (or the umask's for a new one).
+void replace_file(const std::string& path, const std::string& target, const std::string& content) {
+  mode_t mode = 0;
+  struct stat st {};
+  if (stat(target.c_str(), &st) == 0) {
+    mode = st.st_mode & 07777;
+  } else {
+    const mode_t mask = umask(0);
+    umask(mask);
+    mode = 0666 & ~mask;
+  }
+  std::string tmp = target + ".tmp.XXXXXX";
+  const int fd = mkostemp(tmp.data(), O_CLOEXEC);
+  if (fd < 0) {
+    throw OutputError("cannot create a temporary file beside " + describe(path, target) + ": " + error_text(errno));
+  }
+  int err = fchmod(fd, mode) != 0 ? errno : 0;
+  if (err == 0) err = write_all(fd, content);
+  if (err == 0 && fsync(fd) != 0) err = errno;
+  if (close(fd) != 0 && err == 0) err = errno;
+  if (err == 0 && std::rename(tmp.c_str(), target.c_str()) != 0) err = errno;
+  if (err != 0) {
+    unlink(tmp.c_str());
+    throw OutputError("cannot write " + describe(path, target) + ": " + error_text(err));
+  }
+}
+
+}  // namespace
+
+OutputTarget resolve_output(const std::string& path) {
+  OutputTarget t;
+  std::string cur = path;
+  for (int links = 0;; ++links) {
+    if (const auto fd = descriptor_alias(cur)) {
+      t.kind = OutputTarget::Kind::Fd;
+      t.fd = *fd;
+      return t;
+    }
+    struct stat st {};
+    if (lstat(cur.c_str(), &st) != 0) {
+      if (errno != ENOENT) throw UsageError("invalid out = " + describe(path, cur) + ": " + error_text(errno));
+      check_directory(path, cur);  // a new file
+      t.path = cur;
+      return t;
+    }
+    if (S_ISLNK(st.st_mode)) {
+      if (links == max_links) throw UsageError("invalid out = '" + path + "': too many levels of symbolic links");
+      std::string link(static_cast<std::size_t>(st.st_size > 0 ? st.st_size : 4096) + 1, '\0');
+      const ssize_t n = readlink(cur.c_str(), link.data(), link.size());
+      if (n < 0) throw UsageError("invalid out = " + describe(path, cur) + ": " + error_text(errno));
+      link.resize(static_cast<std::size_t>(n));
+      cur = (link.front() == '/' || parent_of(cur) == ".") ? link : parent_of(cur) + "/" + link;
+      continue;
+    }
+    if (S_ISDIR(st.st_mode)) throw UsageError("invalid out = " + describe(path, cur) + ": is a directory");
+    if (S_ISREG(st.st_mode)) {
+      check_directory(path, cur);
+      if (access(cur.c_str(), W_OK) != 0) throw UsageError("invalid out = " + describe(path, cur) + ": is not writable");
+      t.path = cur;
+      return t;
+    }
+    // A device, FIFO or socket: written through, never replaced.
+    if (access(cur.c_str(), W_OK) != 0) throw UsageError("invalid out = " + describe(path, cur) + ": is not writable");
+    t.kind = OutputTarget::Kind::Stream;
+    t.path = cur;
+    return t;
+  }
+}
+
+void check_writable(const std::string& path) { (void)resolve_output(path); }
+
+void write_output(const std::string& path, const std::string& content) {
+  const OutputTarget t = resolve_output(path);
+  switch (t.kind) {
+    case OutputTarget::Kind::Replace:
+      replace_file(path, t.path, content);
+      return;
+    case OutputTarget::Kind::Stream: {
+      // Blocks until a FIFO has a reader, as a shell redirection does.
+      const int fd = open(t.path.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+      if (fd < 0) throw OutputError("cannot open " + describe(path, t.path) + ": " + error_text(errno));
+      int err = write_all(fd, content);
+      if (close(fd) != 0 && err == 0) err = errno;
+      if (err != 0) throw OutputError("cannot write " + describe(path, t.path) + ": " + error_text(err));
+      return;
+    }
+    case OutputTarget::Kind::Fd: {
+      std::cout.flush();
+      std::fflush(stdout);
+      if (const int err = write_all(t.fd, content); err != 0) {
+        const std::string name = t.fd == 1 ? "standard output" : "descriptor " + std::to_string(t.fd);
+        throw OutputError("cannot write to " + name + (path.empty() || path == "-" ? "" : " ('" + path + "')") +
+                          ": " + error_text(err));
+      }
+      return;
+    }
+  }
+}
+
+}  // namespace funnel::cli

@@ -1,0 +1,44 @@
+// Writing --out safely: regular files are replaced atomically, anything else is written through.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace funnel::cli {
+
+/// A failure to write an output (a full disk, a closed pipe, a device that refuses the data):
+/// reported as "funnel: error: <message>" with exit code 1 (bad input is exit code 2).
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// What an --out path names once its symbolic links are followed.
+struct OutputTarget {
+  /// How the data reaches the target.
+  enum class Kind {
+    Replace,  ///< a regular file, or none yet: written to a temporary file beside it, then renamed onto it
+    Stream,   ///< a device, FIFO or socket: opened and written through, never replaced
+    Fd,       ///< standard output ("-", "/dev/stdout") or another open descriptor (/dev/fd/N)
+  };
+  Kind kind = Kind::Replace;
+  std::string path;  ///< the final target (symbolic links followed); empty for Fd
+  int fd = 1;        ///< the descriptor, for Fd
+  /// True for a regular file (or a new one): the only kind that can hold side files (.partial, .json).
+  bool regular() const { return kind == Kind::Replace; }
+};
+
+/// Follows the symbolic links of `path` ("-" or "" is standard output); throws UsageError for a
+/// directory, a missing or unwritable directory, a link loop or an unwritable target.
+OutputTarget resolve_output(const std::string& path);
+
+/// Checks before any work that `path` can be written (see resolve_output); throws UsageError.
+void check_writable(const std::string& path);
+
+/// Writes `content` to `path`: a regular file (or a new one, also through a symbolic link) via a
+/// temporary file in the target's directory and a rename, so that no partial file is ever left
+/// and its permissions are kept; a device, FIFO or standard output ("-", "", "/dev/stdout") is
+/// written through. Throws UsageError for a bad path, OutputError if writing fails.
+void write_output(const std::string& path, const std::string& content);
+
+}  // namespace funnel::cli

@@ -1,0 +1,263 @@
+// What a newcomer meets: --out never destroys what is not a regular file, typos get the nearest
+// name, configs say how to write them, big sweeps ask first, long stages show their progress.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <future>
+#include <string>
+
+#include "cli_util.hpp"
+
+namespace {
+
+using namespace funnel_test;
+
+/// Reads a FIFO to its end on a thread, as `cat fifo` would. If no writer ever comes (a broken
+/// funnel replaced the FIFO instead of writing to it), the reader is released through a second
+/// name of the FIFO made for that purpose, so that the test fails instead of hanging.
+class FifoReader {
+ public:
+  FifoReader(std::string path, std::string spare_name)
+      : spare_(std::move(spare_name)), reader_(std::async(std::launch::async, [path] {
+          std::ifstream in(path, std::ios::binary);
+          std::stringstream s;
+          s << in.rdbuf();
+          return s.str();
+        })) {}
+  std::string text() {
+    if (reader_.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+      const int fd = open(spare_.c_str(), O_WRONLY | O_NONBLOCK);
+      if (fd >= 0) close(fd);
+    }
+    return reader_.get();
+  }
+
+ private:
+  std::string spare_;
+  std::future<std::string> reader_;
+};
+
+bool is_fifo(const std::string& p) { return fs::is_fifo(fs::symlink_status(p)); }
+bool is_char_device(const std::string& p) { return fs::is_character_file(fs::symlink_status(p)); }
+
+TEST_F(Cli, OutWritesThroughAFifoAndThroughALinkToOne) {
+  ASSERT_EQ(mkfifo(path("fifo").c_str(), 0644), 0) << std::strerror(errno);
+  fs::create_hard_link(path("fifo"), path("spare"));
+  fs::create_symlink("fifo", path("link"));
+  for (const char* out : {"fifo", "link"}) {
+    FifoReader reader(path("fifo"), path("spare"));
+    const Result r = run("trajectory --release 0.3 --out " + path(out));
+    const std::string text = reader.text();
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(text.find("\"duration\""), std::string::npos) << out << ": " << text;
+    EXPECT_TRUE(is_fifo(path("fifo"))) << out;
+  }
+  EXPECT_TRUE(fs::is_symlink(path("link")));
+  // A sweep writes its CSV through too, and puts no partial or provenance file beside a FIFO.
+  FifoReader reader(path("fifo"), path("spare"));
+  const Result r = run("sweep --theta 40,50 --samples 10 --out " + path("fifo"));
+  const std::string csv = reader.text();
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
+  EXPECT_EQ(file_count(), 3u);  // fifo, spare and link only
+  expect_rejected(run("sweep --theta 40 --samples 10 --resume --out " + path("fifo")), "resume", "not a regular file");
+}
+
+TEST_F(Cli, OutThroughASymlinkReplacesItsTargetAndKeepsTheLinkAndTheMode) {
+  fs::create_directories(path("data"));
+  write("data/real.json", "old\n");
+  ASSERT_EQ(chmod(path("data/real.json").c_str(), 0640), 0);
+  fs::create_symlink("data/real.json", path("link.json"));
+  const Result r = run("trajectory --release 0.3 --out " + path("link.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::is_symlink(path("link.json")));
+  EXPECT_NE(read("data/real.json").find("\"duration\""), std::string::npos);
+  EXPECT_EQ(fs::status(path("data/real.json")).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("data")), {}), 1);  // no temporary file left
+  // A dangling link creates its target; a link into a missing directory is refused up front.
+  fs::create_symlink("data/new.json", path("dangling.json"));
+  ASSERT_EQ(run("trajectory --release 0.3 --out " + path("dangling.json")).code, 0);
+  EXPECT_TRUE(fs::is_symlink(path("dangling.json")));
+  EXPECT_NE(read("data/new.json").find("\"duration\""), std::string::npos);
+  fs::create_symlink("nowhere/x.json", path("broken.json"));
+  expect_rejected(run("trajectory --release 0.3 --out " + path("broken.json")), "broken.json", "does not exist");
+  EXPECT_TRUE(fs::is_symlink(path("broken.json")));
+}
+
+TEST_F(Cli, OutThroughALinkToStandardOutputWritesToTheShellsStdout) {
+  // The layout of /dev/stdout (a link to /proc/self/fd/1), made here, not in /dev.
+  fs::create_symlink("/proc/self/fd/1", path("stdout"));
+  const Result r = run("trajectory --release 0.3 --out " + path("stdout"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("\"duration\""), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_symlink(path("stdout")));
+  EXPECT_EQ(file_count(), 1u);
+}
+
+TEST_F(Cli, OutToADeviceWritesThroughAndReportsAFullDevice) {
+  // Device nodes like /dev/null (1, 3) and /dev/full (1, 7), made in the scratch directory.
+  if (geteuid() != 0) GTEST_SKIP() << "mknod of a character device needs root; not run";
+  if (mknod(path("null").c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0 ||
+      mknod(path("full").c_str(), S_IFCHR | 0666, makedev(1, 7)) != 0) {
+    GTEST_SKIP() << "mknod refused here (" << std::strerror(errno) << "); not run";
+  }
+  const int probe = open(path("full").c_str(), O_WRONLY);
+  if (probe < 0) GTEST_SKIP() << "opening a device node made here is refused (" << std::strerror(errno) << ")";
+  close(probe);
+  const Result ok = run("trajectory --release 0.3 --out " + path("null"));
+  EXPECT_EQ(ok.code, 0) << ok.output;
+  const Result full = run("trajectory --release 0.3 --out " + path("full"));
+  EXPECT_EQ(full.code, 1) << full.output;
+  EXPECT_NE(full.output.find("cannot write '" + path("full") + "': No space left on device"), std::string::npos)
+      << full.output;
+  const Result sweep = run("sweep --theta 40 --samples 10 --out " + path("full"));
+  EXPECT_EQ(sweep.code, 1) << sweep.output;
+  // Standard output itself on the full device: the message goes to stderr, kept apart here.
+  const std::string cmd = std::string(FUNNEL_BINARY) + " trajectory --release 0.3 > " + path("full") + " 2> " +
+                          path("err.txt");
+  const int status = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
+  EXPECT_NE(read("err.txt").find("cannot write to standard output: No space left on device"), std::string::npos)
+      << read("err.txt");
+  fs::remove(path("err.txt"));
+  EXPECT_TRUE(is_char_device(path("null")));
+  EXPECT_TRUE(is_char_device(path("full")));
+  EXPECT_EQ(file_count(), 2u);
+}
+
+TEST_F(Cli, MisspeltSubcommandsAndOptionsGetTheNearestNameAndTheirHelp) {
+  const Result sub = run("trajectroy --release 0.3");
+  EXPECT_EQ(sub.code, 2);
+  EXPECT_NE(sub.output.find("unknown subcommand 'trajectroy'; did you mean 'trajectory'?"), std::string::npos) << sub.output;
+  EXPECT_NE(sub.output.find("Run 'funnel trajectory --help' for its options."), std::string::npos) << sub.output;
+  const Result opt = run("ensemble --sampels 10 --theta 40");
+  EXPECT_EQ(opt.code, 2);
+  EXPECT_NE(opt.output.find("unknown option '--sampels' for 'funnel ensemble'; did you mean '--samples'?"),
+            std::string::npos) << opt.output;
+  EXPECT_NE(opt.output.find("Run 'funnel ensemble --help' for its options."), std::string::npos) << opt.output;
+  // A negative value is not taken for an option; the misspelt option after it is found.
+  const Result neg = run("trajectory --release -0.5 --thta 40");
+  EXPECT_NE(neg.output.find("unknown option '--thta' for 'funnel trajectory'; did you mean '--theta'?"),
+            std::string::npos) << neg.output;
+  // Nothing close: no guess, but the list of subcommands.
+  const Result far = run("xyzzy");
+  EXPECT_EQ(far.code, 2);
+  EXPECT_EQ(far.output.find("did you mean"), std::string::npos) << far.output;
+  EXPECT_NE(far.output.find("valid subcommands are trajectory, ensemble, sweep"), std::string::npos) << far.output;
+  // Other parse errors keep their message and point to the subcommand's help.
+  const Result missing = run("trajectory --theta 40");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.output.find("--release"), std::string::npos) << missing.output;
+  EXPECT_NE(missing.output.find("Run 'funnel trajectory --help' for its options."), std::string::npos) << missing.output;
+  EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, ClosedDefaultsToElasticCollisionsAndHonoursItsCaps) {
+  const std::string base = "closed --theta 70 --mu 1 --samples 20 ";
+  ASSERT_EQ(run(base + "--out " + path("c.json")).code, 0);
+  std::string json = read("c.json");
+  EXPECT_NE(json.find("\"e\": 1.0"), std::string::npos) << json.substr(0, 400);
+  EXPECT_NE(json.find("\"periodic_fraction\": 1.0"), std::string::npos) << json.substr(0, 800);
+  ASSERT_EQ(run(base + "--t-max 0.5 --out " + path("c.json")).code, 0);
+  json = read("c.json");
+  EXPECT_NE(json.find("\"max_time\": 0.5"), std::string::npos) << json.substr(0, 800);
+  EXPECT_NE(json.find("\"undecided\": 20"), std::string::npos) << json.substr(0, 800);
+  ASSERT_EQ(run(base + "--max-collisions 3 --out " + path("c.json")).code, 0);
+  json = read("c.json");
+  EXPECT_NE(json.find("\"max_collisions\": 3"), std::string::npos) << json.substr(0, 800);
+  EXPECT_NE(json.find("\"undecided\": 20"), std::string::npos) << json.substr(0, 800);
+  const Result help = run("closed --help");
+  EXPECT_NE(help.output.find("(default 1 here"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("0 here, a closed funnel"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("(default 1e4 here)"), std::string::npos) << help.output;
+}
+
+TEST_F(Cli, OrbitHelpListsOnlyTheOptionsItTakes) {
+  const Result help = run("orbit --help");
+  ASSERT_EQ(help.code, 0);
+  for (const char* taken : {"--theta", "--beta0", "--inertia", "--radius", "--y-star", "--format", "--out"}) {
+    EXPECT_NE(help.output.find(taken), std::string::npos) << taken;
+  }
+  for (const char* refused : {"--e ", "--mu ", "--gap ", "--t-max ", "--max-collisions "}) {
+    EXPECT_EQ(help.output.find(refused), std::string::npos) << refused << help.output;
+  }
+  expect_rejected(run("orbit --mu 1 --out " + path("o.json")), "mu", "orbit");
+}
+
+TEST_F(Cli, SweepConfigErrorsSayWhatIsWrongAndHowToWriteIt) {
+  const std::string out = " --out " + path("s.csv");
+  fs::create_directories(path("dir.toml"));
+  expect_rejected(run("sweep --config " + path("dir.toml") + out), "dir.toml", "is a directory");
+  write("empty.toml", "");
+  expect_rejected(run("sweep --config " + path("empty.toml") + out), "empty.toml", "empty");
+  write("comments.toml", "# nothing yet\n");
+  expect_rejected(run("sweep --config " + path("comments.toml") + out), "comments.toml", "no settings");
+  write("syntax.toml", "mu = 1\ntheta = [40, \n");
+  expect_rejected(run("sweep --config " + path("syntax.toml") + out), "syntax.toml", "line 2, column 15");
+  write("grid.toml", "[grid]\nthta = 40\n");
+  const Result typo = run("sweep --config " + path("grid.toml") + out);
+  expect_rejected(typo, "thta", "did you mean 'theta'?");
+  EXPECT_NE(typo.output.find("[grid] table"), std::string::npos) << typo.output;  // how to write it
+  expect_rejected(run("sweep --config " + std::string(FUNNEL_SOURCE_DIR) + "/paper/fig03.toml" + out), "fig03.toml",
+                  "funnel paper");
+  write("twice.toml", "theta = 40\n[grid]\ntheta = 50\n");
+  expect_rejected(run("sweep --config " + path("twice.toml") + out), "theta", "more than once");
+  if (geteuid() != 0) {
+    write("secret.toml", "theta = 40\n");
+    chmod(path("secret.toml").c_str(), 0);
+    expect_rejected(run("sweep --config " + path("secret.toml") + out), "secret.toml", "cannot be read");
+  }
+  EXPECT_FALSE(fs::exists(path("s.csv")));
+}
+
+TEST_F(Cli, SweepConfigReadsGridAndParamsTables) {
+  write("grid.toml", "samples = 20\nrelease_dist = \"line\"\n[params]\ne = 0.9\n[grid]\ntheta = \"40:50:10\"\nmu = [0, 1]\n");
+  const Result r = run("sweep --config " + path("grid.toml") + " --out " + path("s.csv"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string csv = read("s.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;
+  EXPECT_NE(csv.find("\n50,0.9,1,0,0.01,0.04,0.4,1e+05,100000000,line,20,"), std::string::npos) << csv;
+}
+
+TEST_F(Cli, HugeSweepsNeedYes) {
+  // The grids below have an invalid gap (d <= 2a) too: the size is checked first, and a funnel
+  // without this check fails at once on the gap instead of running for hours.
+  const std::string out = " --gap 0.01 --out " + path("s.csv");
+  const Result many = run("sweep --theta 1:89:0.01 --mu 0:1.14:0.01 --samples 10" + out);
+  EXPECT_EQ(many.code, 2);
+  EXPECT_NE(many.output.find("needs --yes: 1012115 points (theta 8801 x mu 115)"), std::string::npos) << many.output;
+  const Result slow = run("sweep --theta 40:50:1 --samples 100000000 --threads 1" + out);
+  EXPECT_EQ(slow.code, 2);
+  // 11 x 10^8 trajectories at 5 us each on one thread: 5500 s = 92 min.
+  EXPECT_NE(slow.output.find("1100000000 trajectories, estimated 92 min on 1 thread"), std::string::npos) << slow.output;
+  // --yes lifts the limit: the next check speaks.
+  const Result yes = run("sweep --theta 40:50:1 --samples 100000000 --threads 1 --yes" + out);
+  expect_rejected(yes, "gap", "0.01");
+  EXPECT_EQ(yes.output.find("--yes"), std::string::npos) << yes.output;
+  EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, PaperShowsProgressOfClosedFunnelRunsAndSummarisesEachStage) {
+  // Not a terminal: one line per stage. FUNNEL_PROGRESS=always: the bar of Fig. 12's runs.
+  const std::string args = "paper --quick --only fig12 --out " + path("p");
+  const Result log = run(args);
+  ASSERT_EQ(log.code, 0) << log.output;
+  EXPECT_NE(log.output.find("funnel paper: θ sweeps: 0 ensembles in "), std::string::npos) << log.output;
+  EXPECT_NE(log.output.find("funnel paper: fig12 data written"), std::string::npos) << log.output;
+  EXPECT_NE(log.output.find("funnel paper: plots: 1 of 1 figures drawn in "), std::string::npos) << log.output;
+  EXPECT_TRUE(fs::exists(path("p/fig12/fig12.png")));
+  EXPECT_EQ(log.output.find("["), std::string::npos) << log.output;  // no bar in a log
+  const Result bar = run(args + " --no-plots", "FUNNEL_PROGRESS=always");
+  ASSERT_EQ(bar.code, 0) << bar.output;
+  EXPECT_NE(bar.output.find("funnel paper: fig12 [##############################] 100%"), std::string::npos)
+      << bar.output;
+}
+
+}  // namespace
