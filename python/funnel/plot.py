@@ -291,7 +291,6 @@ def plot_theta_sweep(meta, columns):
                     ax.fill_between(theta, mean - sem, mean + sem, color=style["color"], alpha=0.18, lw=0)
                 ax.plot(theta, mean, lw=0.9, label=label, **style)
             _theta_axis(ax, rows["theta"])
-            ax.set_ylim(bottom=0)
             if c == 0:
                 ax.set_ylabel(axis_label(obs))
             if r < nrow - 1:
@@ -301,6 +300,9 @@ def plot_theta_sweep(meta, columns):
                 _panel_title(ax, letter, plabel if r == 0 else "", centred=True)
             else:
                 _panel_title(ax, pid if ncol > 1 else "", plabel, centred=True)
+    for row in axes:  # a row shares its y axis: scale it to all its panels' data, from 0
+        row[0].autoscale_view(scalex=False)
+        row[0].set_ylim(bottom=0)
     if values != [None]:
         _top_legend(fig, legend_cols)
     return fig

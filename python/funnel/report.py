@@ -44,7 +44,7 @@ td, th { border: 1px solid #ddd; padding: 0.15em 0.5em; text-align: left; }
 th { background: #fafafa; font-weight: normal; color: #555; }
 .meta { font-size: 0.8em; color: #555; }
 nav a { margin-right: 0.8em; }
-math { font-size: 1.05em; }
+math { font-size: 1.05em; font-family: 'STIX Two Math', 'Latin Modern Math', 'DejaVu Math TeX Gyre', math; }
 """
 
 

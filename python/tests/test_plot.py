@@ -165,6 +165,20 @@ def test_coinciding_curves_differ_in_dashes_and_markers(dataset):
         assert mu1.get_markevery() != mu5.get_markevery()  # markers at different angles
 
 
+def test_theta_sweep_rows_show_all_their_data(dataset):
+    _, dirs = dataset
+    meta, columns = plot.load_figure(next(d for d in dirs if d.name == "fig06"))
+    columns = dict(columns, duration_mean=columns["duration_mean"].copy())
+    columns["duration_mean"][columns["panel"] == "b"] *= 3.0  # the middle panel has the largest values
+    fig = plot.plot_figure(meta, columns)
+    for ax in fig.axes:
+        lo, hi = ax.get_ylim()
+        for line in ax.get_lines():
+            y = np.asarray(line.get_ydata(), dtype=float)
+            if len(y) > 2:
+                assert lo == 0 and np.nanmax(y) <= hi, ax.get_title()
+
+
 def _caption(figure):
     import tomllib
     from pathlib import Path
