@@ -53,9 +53,10 @@ class Browser:
             os.dup2(a, 3)
             os.dup2(b, 4)
 
+        self._log = tempfile.TemporaryFile()  # a file, not a pipe: a chatty browser cannot block on it
         self.proc = subprocess.Popen([binary, *CHROMIUM_FLAGS, f"--user-data-dir={profile}",
                                       "--remote-debugging-pipe", "about:blank"],
-                                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=self._log,
                                      preexec_fn=child_fds, close_fds=False)
         os.close(to_chrome_r)
         os.close(from_chrome_w)
@@ -70,7 +71,8 @@ class Browser:
                 raise TimeoutError("no answer from Chromium")
             chunk = os.read(self._from_chrome, 1 << 20)
             if not chunk:
-                raise EOFError("Chromium closed the DevTools pipe: " + self.proc.stderr.read(4000).decode(errors="replace"))
+                self._log.seek(0)
+                raise EOFError("Chromium closed the DevTools pipe: " + self._log.read(4000).decode(errors="replace"))
             self._buffer += chunk
         raw, self._buffer = self._buffer.split(b"\0", 1)
         return json.loads(raw)
@@ -110,6 +112,7 @@ class Browser:
             self.proc.wait()
         os.close(self._to_chrome)
         os.close(self._from_chrome)
+        self._log.close()
 
 
 def page_errors(events):
