@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 #include "cli_common.hpp"
 #include "funnel/closed.hpp"
@@ -382,6 +383,34 @@ void SweepCache::run(int threads, const Progress& progress) {
 
 const EnsembleResult& SweepCache::get(const Params& params, ReleaseDist dist, std::int64_t samples) const {
   return entries_.at(key(params, dist, samples)).result;
+}
+
+std::int64_t SweepCache::simulated_collisions() const {
+  std::int64_t n = 0;
+  for (const auto& [k, e] : entries_) n += e.done ? e.result.simulated_collisions : 0;
+  return n;
+}
+
+std::map<std::string, double> attributed_collisions(const std::vector<FigureSpec>& figs, const SweepCache& cache) {
+  std::map<std::string, std::set<const EnsembleResult*>> used;
+  std::map<const EnsembleResult*, int> users;
+  for (const FigureSpec& fig : figs) {
+    auto& mine = used[fig.id];
+    if (fig.kind != "theta_sweep") continue;
+    for (const PanelSpec& panel : fig.panels) {
+      for (const std::string& dist : fig.dists) {
+        for (const Params& p : sweep_points(fig, panel)) mine.insert(&cache.get(p, dist_of(dist), fig.samples));
+      }
+    }
+    for (const EnsembleResult* r : mine) ++users[r];
+  }
+  std::map<std::string, double> share;
+  for (const auto& [id, mine] : used) {
+    double n = 0.0;
+    for (const EnsembleResult* r : mine) n += static_cast<double>(r->simulated_collisions) / users[r];
+    share[id] = n;
+  }
+  return share;
 }
 
 void request_sweeps(const FigureSpec& fig, SweepCache& cache) {

@@ -25,6 +25,8 @@ class SweepCache {
   const EnsembleResult& get(const Params& params, ReleaseDist dist, std::int64_t samples) const;
   /// Number of distinct ensembles requested.
   std::size_t size() const { return entries_.size(); }
+  /// Collisions computed by all ensembles that have run (mirror halving included).
+  std::int64_t simulated_collisions() const;
 
  private:
   using Key = std::tuple<std::string, int, std::int64_t>;
@@ -48,6 +50,11 @@ struct FigureData {
 
 /// Adds the ensembles a theta-sweep figure needs to the cache (nothing for other kinds).
 void request_sweeps(const FigureSpec& fig, SweepCache& cache);
+
+/// The collisions of the theta-sweep batch attributed to each figure (by id): the collisions
+/// simulated for each ensemble, split evenly among the figures that use it, so that the shares
+/// add up to cache.simulated_collisions(). Figures of other kinds get 0.
+std::map<std::string, double> attributed_collisions(const std::vector<FigureSpec>& figs, const SweepCache& cache);
 
 /// Computes a figure (theta sweeps are read from the cache, which must have run); `progress`
 /// hears of the figure's own runs (release scans, closed-funnel ensembles).

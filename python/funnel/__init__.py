@@ -16,7 +16,9 @@ raise ValueError with the library's message. Results are dicts of Python numbers
 numpy arrays.
 
 Plots of the paper's figures: ``python -m funnel.plot OUTDIR`` (module :mod:`funnel.plot`,
-which imports matplotlib only when used). See docs/python.md.
+which imports matplotlib only when used). One trajectory: ``python -m funnel.plot trajectory``
+(:mod:`funnel.trajectory`) and ``python -m funnel.animate`` (:mod:`funnel.animate`); the motion
+between logged events: :mod:`funnel.motion`. See docs/python.md.
 """
 
 import sys as _sys

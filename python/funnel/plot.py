@@ -8,6 +8,9 @@ are read with the standard csv module and numpy.
 
 Figure kinds (the JSON's "kind"): theta_sweep (Figs. 2-6, 13), release_scan (Fig. 7),
 trajectories (Fig. 8), eigenvalues (Fig. 10), closed_final (Fig. 11), periodic_fraction (Fig. 12).
+
+``python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png`` draws one simulated
+trajectory instead (:mod:`funnel.trajectory`).
 """
 
 from __future__ import annotations
@@ -37,6 +40,12 @@ SYMBOLS = {"theta": r"$\theta$", "e": r"$e$", "mu": r"$\mu$", "beta0": r"$\beta_
 
 #: Curve colours (Okabe-Ito, readable in gray and by colour-blind readers); black first.
 COLORS = ("#000000", "#E69F00", "#0072B2", "#009E73", "#D55E00", "#CC79A7", "#56B4E9", "#F0E442")
+
+#: Open markers cycled with the colours: curves that coincide (μ = 1 and 5 in Figs. 3-5, θ = 60°
+#: and 70° in Fig. 12, |λ2| = |λ3| in Fig. 10) stay visible by their markers and dashes.
+MARKERS = ("o", "s", "^", "v", "D", "x", "+", "*")
+MARKER_NAMES = ("circles", "squares", "triangles", "down-triangles", "diamonds", "crosses", "plus signs", "stars")
+DASHED = (0, (4.5, 2.0))
 
 #: Publication style: serif text (STIX, as in the paper), thin lines, ticks inside.
 STYLE = {
@@ -222,11 +231,32 @@ def _theta_axis(ax, theta):
     ax.set_xlabel(r"$\theta$ [deg]")
 
 
-def _series_style(series, index, value):
-    """(colour, line style) of curve `index`; Fig. 13 draws the cone solid and the 2D funnel dashed."""
+def curve_style(index, count=None, points=None):
+    """Matplotlib keywords of curve `index` among `count` curves of `points` points each: an
+    Okabe-Ito colour, solid for even and dashed for odd indices (drawn on top, so a dashed curve
+    lying on a solid one shows both), an open marker of its own; with `points`, about six markers
+    per curve, shifted from curve to curve so that coinciding curves do not hide each other's."""
+    style = {"color": COLORS[index % len(COLORS)], "ls": "-" if index % 2 == 0 else DASHED,
+             "marker": MARKERS[index % len(MARKERS)], "ms": 3.2, "mfc": "none", "mew": 0.8,
+             "zorder": 2.2 + 0.1 * (index % 2)}
+    if points is not None and points > 12:
+        step = max(1, points // 6)
+        style["markevery"] = ((index * step) // max(1, count or 1) % step, step)
+    return style
+
+
+def style_description(index):
+    """Words for the style of curve `index` (for captions), e.g. "dashed, open squares"."""
+    return f"{'solid' if index % 2 == 0 else 'dashed'}, {MARKER_NAMES[index % len(MARKER_NAMES)]}"
+
+
+def _series_style(series, index, value, count=None, points=None):
+    """Line keywords of curve `index`; Fig. 13 draws the cone solid and the 2D funnel dashed."""
+    style = curve_style(index, count, points)
     if series == "release_dist":
-        return ("#0072B2", "--") if str(value) == "line" else ("#000000", "-")
-    return COLORS[index % len(COLORS)], "-"
+        line = str(value) == "line"
+        style.update(color="#0072B2" if line else "#000000", ls=DASHED if line else "-", marker="s" if line else "o")
+    return style
 
 
 # ---------------------------------------------------------------------------------------------
@@ -254,14 +284,13 @@ def plot_theta_sweep(meta, columns):
                 order = np.argsort(sel["theta"], kind="stable")
                 theta = sel["theta"][order]
                 mean = sel[f"{obs}_mean"][order]
-                color, ls = _series_style(series, k, value)
+                style = _series_style(series, k, value, len(values), len(theta))
                 label = None if value is None else series_label(series, value)
                 if f"{obs}_sem" in sel:
                     sem = sel[f"{obs}_sem"][order]
-                    ax.fill_between(theta, mean - sem, mean + sem, color=color, alpha=0.18, lw=0)
-                ax.plot(theta, mean, color=color, ls=ls, lw=0.9, label=label)
+                    ax.fill_between(theta, mean - sem, mean + sem, color=style["color"], alpha=0.18, lw=0)
+                ax.plot(theta, mean, lw=0.9, label=label, **style)
             _theta_axis(ax, rows["theta"])
-            ax.set_ylim(bottom=0)
             if c == 0:
                 ax.set_ylabel(axis_label(obs))
             if r < nrow - 1:
@@ -271,6 +300,9 @@ def plot_theta_sweep(meta, columns):
                 _panel_title(ax, letter, plabel if r == 0 else "", centred=True)
             else:
                 _panel_title(ax, pid if ncol > 1 else "", plabel, centred=True)
+    for row in axes:  # a row shares its y axis: scale it to all its panels' data, from 0
+        row[0].autoscale_view(scalex=False)
+        row[0].set_ylim(bottom=0)
     if values != [None]:
         _top_legend(fig, legend_cols)
     return fig
@@ -307,98 +339,26 @@ def plot_release_scan(meta, columns):
     return fig
 
 
-def trajectory_path(geometry, events, samples_per_arc=None):
-    """(x, y, t) of the particle centre's path: from the release at rest, the parabola of each
-    free flight (velocity after an event, gravity (0, -1)) up to the next event's time; a
-    straight segment along the wall during a sustained contact (contact_start to contact_end).
-    Each arc has `samples_per_arc` points, its last one at the event ending it."""
-    time, x, y = events["time"], events["x"], events["y"]
-    n = len(time)
-    if n == 0:
-        return np.zeros(0), np.zeros(0), np.zeros(0)
-    if "release" in geometry and "half_width" in geometry:
-        x0 = float(geometry["release"]) * float(geometry["half_width"])
-    else:
-        x0 = float(x[0])  # the first flight is a vertical fall from rest
-    kind = events["kind"].astype(str)
-    t_start = np.concatenate([[0.0], time[:-1]])
-    x_start = np.concatenate([[x0], x[:-1]])
-    y_start = np.concatenate([[float(geometry["y_release"])], y[:-1]])
-    u_start = np.concatenate([[0.0], events["u_after"][:-1]])
-    v_start = np.concatenate([[0.0], events["v_after"][:-1]])
-    sliding = np.concatenate([[False], kind[:-1] == "contact_start"])
-    k = samples_per_arc or (48 if n < 2000 else 12 if n < 50000 else 4)
-    s = np.linspace(0.0, 1.0, k)[None, :]
-    tau = (time - t_start)[:, None] * s
-    px = x_start[:, None] + u_start[:, None] * tau
-    py = y_start[:, None] + v_start[:, None] * tau - 0.5 * tau * tau
-    # A contact moves along the face: interpolate between its start and end points.
-    px[sliding] = x_start[sliding, None] + (x[sliding] - x_start[sliding])[:, None] * s
-    py[sliding] = y_start[sliding, None] + (y[sliding] - y_start[sliding])[:, None] * s
-    return px.ravel(), py.ravel(), (t_start[:, None] + tau).ravel()
-
-
-def _draw_funnel(ax, g):
-    """Walls (solid, ending at the edge points), centre lines (dotted, meeting at the origin)
-    and the release line (dash-dotted), in the frame of the paper's Fig. 1."""
-    s, c = math.sin(math.radians(g["theta"])), math.cos(math.radians(g["theta"]))
-    top = g["y_release"] + 0.06
-    for sign in (-1.0, 1.0):
-        ex, ey = sign * g["half_gap"], g["y_bottom"]
-        length = (top - ey) / s
-        ax.plot([ex, ex + sign * c * length], [ey, top], color="k", lw=1.6, solid_capstyle="butt", zorder=3)
-        ax.plot([0.0, sign * top / math.tan(math.radians(g["theta"]))], [0.0, top], color="0.4", lw=0.6,
-                ls=(0, (1, 2)), zorder=1)
-    L = g["half_width"]
-    ax.plot([-L, L], [g["y_release"]] * 2, color="0.3", lw=0.7, ls="-.", zorder=1)
+def trajectory_path(geometry, events, samples_per_arc=None, window=None):
+    """(x, y, t) of the particle centre's path between the logged events: parabolas in flight,
+    straight along a face during a sustained contact, arcs about an edge point during an edge
+    contact (see funnel.motion.trajectory_path)."""
+    from .motion import trajectory_path as path
+    return path(geometry, events, samples_per_arc, window)
 
 
 def plot_trajectories(meta, columns):
-    """The particle centre's path in the funnel, one panel per trajectory, equal aspect ratio."""
-    from matplotlib import colormaps
-    from matplotlib.collections import LineCollection
-    from matplotlib.colors import ListedColormap
-    cmap = ListedColormap(colormaps["Blues"](np.linspace(0.3, 1.0, 256)))
-    panels = _panels(meta, columns)
-    geometries = meta.get("geometry") or {}
-    extents = []
-    for pid, _ in panels:
-        g = geometries[pid]
-        extents.append((g["y_release"] / math.tan(math.radians(g["theta"])) + 0.1, g["y_release"] + 0.1))
-    widths = [2 * w for w, _ in extents]
-    height = max(h - min(0.0, geometries[p]["y_bottom"]) + 0.05 for (p, _), (_, h) in zip(panels, extents))
-    fig_w = 7.0
-    # Axes of equal aspect: their height follows from the width left after labels and gaps.
-    fig = _new_figure(fig_w, min(9.0, (fig_w - 0.6 - 0.75 * len(panels)) * height / sum(widths) + 0.75))
-    axes = fig.subplots(1, len(panels), squeeze=False, gridspec_kw={"width_ratios": widths})[0]
-    for ax, (pid, plabel), (w, h) in zip(axes, panels, extents):
-        g = dict(geometries[pid])
-        rows = _panel_rows(columns, pid)
-        _draw_funnel(ax, g)
-        px, py, pt = trajectory_path(g, rows)
-        if len(px) > 1:
-            # Coloured by time (light early, dark late), so that a repeating pattern stands out.
-            points = np.column_stack([px, py])
-            segments = np.stack([points[:-1], points[1:]], axis=1)
-            lines = LineCollection(segments, cmap=cmap, lw=0.4, zorder=2, rasterized=len(px) > 200000)
-            lines.set_array(0.5 * (pt[:-1] + pt[1:]))
-            ax.add_collection(lines)
-            bar = fig.colorbar(lines, ax=ax, shrink=0.7, aspect=25, pad=0.02)
-            bar.set_label(r"$t$ [$\sqrt{H/g}$]")
-            bar.outline.set_linewidth(0.5)
-            ax.plot(px[0], py[0], "o", ms=3, color="#D55E00", zorder=4)
-        ax.set_aspect("equal")
-        ax.set_xlim(-w, w)
-        ax.set_ylim(min(0.0, g["y_bottom"]) - 0.05, h)
-        ax.set_xlabel(r"$x/H$")
-        _panel_title(ax, pid if len(panels) > 1 else "", plabel)
-    axes[0].set_ylabel(r"$y/H$")
-    return fig
+    """The particle centre's path in the funnel, one panel per trajectory, with a zoom on the
+    bounces of a trajectory that settles into them (drawn by funnel.trajectory)."""
+    from .trajectory import plot_trajectories as draw
+    return draw(meta, columns)
 
 
 def plot_eigenvalues(meta, columns):
-    """Moduli of the eigenvalues vs theta: solid where the orbit is stable, dashed where not."""
-    fig = _new_figure(3.4, 2.6)
+    """Moduli of the eigenvalues vs theta: solid where the orbit is stable, dashed where not.
+    Each eigenvalue has its colour and marker, so |λ2| = |λ3| (a complex pair) stays visible."""
+    from matplotlib.lines import Line2D
+    fig = _new_figure(3.4, 2.9)
     ax = fig.subplots()
     theta = columns["theta"]
     order = np.argsort(theta, kind="stable")
@@ -408,16 +368,36 @@ def plot_eigenvalues(meta, columns):
     grow = lambda m: m | np.concatenate([m[1:], [False]]) | np.concatenate([[False], m[:-1]])
     solid, dashed = grow(stable), grow(~stable)
     mods = sorted((c for c in columns if c.startswith("mod") and c[3:].isdigit()), key=lambda c: int(c[3:]))
+    handles = []
     for k, name in enumerate(mods):
         y = columns[name][order]
-        color = COLORS[k % len(COLORS)]
-        ax.plot(theta, np.where(solid, y, np.nan), color=color, lw=1.0, label=rf"$|\lambda_{name[3:]}|$")
-        ax.plot(theta, np.where(dashed, y, np.nan), color=color, lw=1.0, ls="--")
+        style = curve_style(k, len(mods), len(theta))
+        del style["ls"]
+        # Odd curves wide and below, even ones thin on top: a pair of equal moduli shows as a
+        # thin line inside a wide one.
+        lw = 2.2 if k % 2 else 0.9
+        line = dict(style, marker="None", zorder=2.0 if k % 2 else 2.4)
+        ax.plot(theta, np.where(solid, y, np.nan), lw=lw, **line)
+        ax.plot(theta, np.where(dashed, y, np.nan), lw=lw, ls=(0, (4.5 / lw, 2.0 / lw)), **line)
+        ax.plot(theta, y, ls="None", **style)  # markers on both parts, at shifted angles
+        handles.append(Line2D([], [], color=style["color"], marker=style["marker"], mfc="none", ms=3.2, mew=0.8,
+                              lw=lw, label=rf"$|\lambda_{name[3:]}|$"))
+    handles += [Line2D([], [], color="0.2", lw=1.0, label="stable"),
+                Line2D([], [], color="0.2", lw=1.0, ls=DASHED, label="unstable")]
     ax.axhline(1.0, color="0.5", lw=0.6, ls=":", zorder=0)
     _theta_axis(ax, theta)
     ax.set_ylabel(r"$|\lambda|$")
-    ax.legend(loc="best", ncol=2)
+    fig.get_layout_engine().set(rect=(0, 0, 1, 1 - _legend_band(3, 3) / fig.get_figheight()))
+    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 1.0), ncol=3, columnspacing=1.2,
+               handlelength=2.2, borderaxespad=0.2)
     return fig
+
+
+def closed_final_reach(columns):
+    """Half the y range of Fig. 11: the largest |x_c/L| of the data plus 12%, at least 0.05."""
+    values = np.abs(np.concatenate([columns["x1_over_L"], columns["x2_over_L"]]))
+    values = values[np.isfinite(values)]
+    return max(0.05, 1.12 * float(values.max())) if len(values) else 1.0
 
 
 def plot_closed_final(meta, columns):
@@ -430,6 +410,8 @@ def plot_closed_final(meta, columns):
     states = set(columns["state"].astype(str).tolist())
     fig = _new_figure(3.3 * ncol, 2.3 * nrow + 0.2 + _legend_band(len(states), 3))
     axes = fig.subplots(nrow, ncol, squeeze=False, sharex=True, sharey=True)
+    # The y range fits the data: the largest |x_c/L| of any panel, with a margin.
+    reach = closed_final_reach(columns)
     styles = (("periodic", "0.6", "periodic orbit"), ("rest", "0.05", "rest"), ("undecided", "#D55E00", "undecided"))
     for i, (pid, plabel) in enumerate(panels):
         ax = axes[i // ncol][i % ncol]
@@ -443,10 +425,9 @@ def plot_closed_final(meta, columns):
             y = np.concatenate([rows["x1_over_L"][m], rows["x2_over_L"][m]])
             ax.scatter(x, y, s=1.5, c=color, marker="o", lw=0, label=label, rasterized=True)
         ax.set_xlim(-1, 1)
-        ax.set_ylim(-1, 1)
-        for axis in (ax.xaxis, ax.yaxis):
-            axis.set_major_locator(MultipleLocator(0.5))
-            axis.set_minor_locator(MultipleLocator(0.25))
+        ax.set_ylim(-reach, reach)
+        ax.xaxis.set_major_locator(MultipleLocator(0.5))
+        ax.xaxis.set_minor_locator(MultipleLocator(0.25))
         _panel_title(ax, pid if len(panels) > 1 else "", plabel)
         if i // ncol == nrow - 1:
             ax.set_xlabel(r"$x_0/L$")
@@ -463,11 +444,12 @@ def plot_periodic_fraction(meta, columns):
     fig = _new_figure(3.4, 2.6)
     ax = fig.subplots()
     mu_all = columns["mu"]
-    for k, theta in enumerate(_unique(columns["theta"])):
+    thetas = _unique(columns["theta"])
+    for k, theta in enumerate(thetas):
         sel = _select(columns, columns["theta"] == theta)
         order = np.argsort(sel["mu"], kind="stable")
-        ax.plot(sel["mu"][order], sel["periodic_fraction"][order], marker="o", ms=2.5,
-                color=COLORS[k % len(COLORS)], label=series_label("theta", theta))
+        ax.plot(sel["mu"][order], sel["periodic_fraction"][order], label=series_label("theta", theta),
+                **curve_style(k, len(thetas), len(order)))
     positive = mu_all[mu_all > 0]
     if len(positive) and positive.max() / positive.min() >= 100:
         if np.any(mu_all <= 0):
@@ -538,11 +520,18 @@ def render_all(outdir, log=None):
 
 
 def main(argv=None):
-    """Command line: ``python -m funnel.plot OUTDIR``."""
+    """Command line: ``python -m funnel.plot OUTDIR``, or ``python -m funnel.plot trajectory
+    --theta 60 --release 0.3 --out traj.png`` for one trajectory (funnel.trajectory)."""
     import argparse
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["trajectory"]:
+        from .trajectory import main as trajectory_main
+        return trajectory_main(argv[1:], prog="python -m funnel.plot trajectory")
     parser = argparse.ArgumentParser(prog="python -m funnel.plot", description=(
         "Render OUTDIR/figNN/figNN.{png,svg} from figNN.{json,csv} for every figure directory, "
-        "then write OUTDIR/index.html."))
+        "then write OUTDIR/index.html."), epilog=(
+        "One trajectory: python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png "
+        "(see python -m funnel.plot trajectory --help); a directory named 'trajectory': ./trajectory."))
     parser.add_argument("outdir", help="directory with one subdirectory figNN/ per figure")
     args = parser.parse_args(argv)
     outdir = Path(args.outdir)

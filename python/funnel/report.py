@@ -1,10 +1,13 @@
 """A static HTML page of the reproduced figures: ``OUTDIR/index.html``.
 
-Each figure is shown with its caption, its parameters, its provenance and one line saying what
-the paper claims and whether the data show it (the figure JSON's "check" object). Links are
-relative, so the page works from the file system, without a server. ``python -m funnel.plot``
-writes it after rendering the images; ``python -m funnel.report OUTDIR`` rewrites only the page
-from images already there.
+Each figure is shown with its caption, its parameters, its provenance (the number N of release
+positions where the figure averages over them, and its own compute time) and one line saying
+what the paper claims and whether the data show it (the figure JSON's "check" object).
+Mathematics is MathML (:mod:`funnel.mathml`), which browsers display natively; figures of kind
+"trajectories" get an interactive player (:mod:`funnel.player`). Links are relative and nothing
+is fetched from the network, so the page works from the file system, without a server.
+``python -m funnel.plot`` writes it after rendering the images; ``python -m funnel.report OUTDIR``
+rewrites only the page from images already there.
 """
 
 from __future__ import annotations
@@ -13,6 +16,14 @@ import html
 import json
 import sys
 from pathlib import Path
+
+from .mathml import parameter_html, tex_to_mathml, text_to_html
+from .player import PLAYER_CSS, player_data, player_html, player_script
+
+#: Figure kinds that average over N release positions (the others show no N).
+SAMPLED_KINDS = frozenset({"theta_sweep", "release_scan", "closed_final", "periodic_fraction"})
+
+THETA = tex_to_mathml(r"\theta")
 
 _CSS = """
 body { font-family: Georgia, 'STIX Two Text', serif; max-width: 980px; margin: 2em auto; padding: 0 1em;
@@ -33,6 +44,7 @@ td, th { border: 1px solid #ddd; padding: 0.15em 0.5em; text-align: left; }
 th { background: #fafafa; font-weight: normal; color: #555; }
 .meta { font-size: 0.8em; color: #555; }
 nav a { margin-right: 0.8em; }
+math { font-size: 1.05em; font-family: 'STIX Two Math', 'Latin Modern Math', 'DejaVu Math TeX Gyre', math; }
 """
 
 
@@ -43,7 +55,7 @@ def _e(value):
 def _params_table(params):
     if not params:
         return ""
-    head = "".join(f"<th>{_e(k)}</th>" for k in params)
+    head = "".join(f"<th>{parameter_html(k)}</th>" for k in params)
     cells = "".join(f"<td>{_e(_text(v))}</td>" for v in params.values())
     return f"<table><tr>{head}</tr><tr>{cells}</tr></table>"
 
@@ -62,41 +74,68 @@ def check_line(check):
         return '<p class="check">No check recorded for this figure.</p>'
     holds = check.get("holds")
     css, verdict = {True: ("holds", "✔ holds"), False: ("fails", "✘ does not hold")}.get(holds, ("", "not decided"))
-    return (f'<p class="check {css}"><b>The paper claims:</b> {_e(check.get("claim", ""))} '
-            f'<b>Measured:</b> {_e(check.get("measured", ""))} '
+    return (f'<p class="check {css}"><b>The paper claims:</b> {text_to_html(check.get("claim", ""))} '
+            f'<b>Measured:</b> {text_to_html(check.get("measured", ""))} '
             f'<span class="verdict">{verdict}</span></p>')
 
 
+def _seconds(value):
+    return f"{value:.3g} s" if value < 10 else f"{value:.1f} s"
+
+
+def run_time_text(meta):
+    """The figure's compute time, and how it was measured: its own, or (θ sweeps computed in one
+    shared batch) its share of the batch in proportion to the collisions simulated for it."""
+    value = meta.get("run_time_s")
+    if not isinstance(value, (int, float)):
+        return ""
+    text = f"computed in {_seconds(float(value))}"
+    basis = meta.get("run_time_basis")
+    if isinstance(basis, dict) and basis.get("batch_time_s") is not None:
+        share = basis.get("figure_collisions", 0) / basis["batch_collisions"] if basis.get("batch_collisions") else 0
+        text += (f" (its share of the {_seconds(float(basis['batch_time_s']))} batch of all θ sweeps, in proportion "
+                 f"to the collisions simulated for its ensembles: {100 * share:.3g}%; an ensemble shared by "
+                 "several figures is split evenly between them)")
+    return text
+
+
 def figure_section(entry):
-    """HTML of one figure: title, image (linked to the SVG), caption, claim line, parameters."""
+    """HTML of one figure: title, image (linked to the SVG), caption, claim line, parameters,
+    and a trajectory player when the entry has "player" data."""
     meta, d = entry["meta"], entry["dir"]
     name = meta.get("figure", d)
     images = {Path(p).suffix: f"{d}/{p}" for p in entry.get("images", [])}
     png, svg = images.get(".png", f"{d}/{d}.png"), images.get(".svg", f"{d}/{d}.svg")
     panels = meta.get("panels") or []
-    panel_text = "; ".join(f"({p.get('id', '')}) {p.get('label', '')}".strip() for p in panels)
+    panel_text = "; ".join(f"({_e(p.get('id', ''))}) {text_to_html(p.get('label', ''))}".strip() for p in panels)
     series = meta.get("series")
     details = []
     if panel_text:
-        details.append(f"panels: {_e(panel_text)}")
+        details.append(f"panels: {panel_text}")
     if series:
-        details.append(f"curves by: {_e(series)}")
+        details.append(f"curves by: {parameter_html(series)}")
     if meta.get("observables"):
         details.append(f"observables: {_e(', '.join(meta['observables']))}")
-    if meta.get("samples") is not None:
-        details.append(f"N = {_e(meta['samples'])} release positions")
+    if meta.get("samples") is not None and meta.get("kind") in SAMPLED_KINDS:
+        details.append(f"{tex_to_mathml('N')} = {_e(meta['samples'])} release positions")
     prov = []
-    for key, label in (("version", "funnel"), ("git_commit", "commit"), ("run_time_s", "run time [s]")):
+    for key, label in (("version", "funnel"), ("git_commit", "commit")):
         if meta.get(key) is not None:
-            value = meta[key]
-            prov.append(f"{label} {_e(f'{value:.1f}' if isinstance(value, float) else value)}")
+            prov.append(f"{label} {_e(meta[key])}")
+    if run_time_text(meta):
+        prov.append(_e(run_time_text(meta)).replace("θ", tex_to_mathml(r"\theta")))
+    player = ""
+    if entry.get("player"):
+        player = (f'<p class="meta">Play the trajectories: the close-up on the right follows the ball (to scale) and '
+                  f'shows its spin as a line.</p>\n{player_html(d, entry["player"])}')
     return f"""
 <section id="{_e(name)}">
-<h2>{_e(name)}: {_e(meta.get("title", ""))}</h2>
+<h2>{_e(name)}: {text_to_html(meta.get("title", ""))}</h2>
 <figure>
 <a href="{_e(svg)}"><img src="{_e(png)}" alt="{_e(name)}"></a>
-<figcaption>{_e(meta.get("caption", ""))}</figcaption>
+<figcaption>{text_to_html(meta.get("caption", ""))}</figcaption>
 </figure>
+{player}
 {check_line(meta.get("check"))}
 <p class="meta">{' &middot; '.join(details)}</p>
 {_params_table(meta.get("params") or {})}
@@ -105,28 +144,46 @@ def figure_section(entry):
 </section>"""
 
 
+def _with_players(outdir, entries):
+    """The entries, those of kind "trajectories" with their player data read from their CSV."""
+    from .plot import read_csv
+    out = []
+    for e in entries:
+        if e["meta"].get("kind") == "trajectories" and "player" not in e:
+            csv_path = Path(outdir) / e["dir"] / f"{e['dir']}.csv"
+            if csv_path.is_file():
+                e = dict(e, player=player_data(e["meta"], read_csv(csv_path)))
+        out.append(e)
+    return out
+
+
 def write_index(outdir, entries):
     """Writes outdir/index.html for the figure entries ({"dir", "meta", "images"}); returns its path."""
     outdir = Path(outdir)
+    entries = _with_players(outdir, entries)
     summary = [e["meta"].get("check", {}).get("holds") for e in entries]
     n_hold = sum(1 for h in summary if h is True)
     nav = " ".join(f'<a href="#{_e(e["meta"].get("figure", e["dir"]))}">{_e(e["meta"].get("figure", e["dir"]))}</a>'
                    for e in entries)
     sections = "".join(figure_section(e) for e in entries)
+    script = f"<script>\n{player_script()}</script>" if any(e.get("player") for e in entries) else ""
+    units = ", ".join(f"{what} in {tex_to_mathml(tex)}" for what, tex in (
+        ("lengths", "H"), ("times", r"\sqrt{H/g}"), ("impulses", r"m\sqrt{gH}"), ("energies", "mgH")))
     page = f"""<!DOCTYPE html>
 <html lang="en">
 <head>
 <meta charset="utf-8">
 <title>funnel: figures of "Critical role of friction for a single particle falling through a funnel"</title>
-<style>{_CSS}</style>
+<style>{_CSS}{PLAYER_CSS}</style>
 </head>
 <body>
 <h1>funnel: the paper's figures, reproduced</h1>
 <p>Simulated with funnel (exact event-driven dynamics) for the paper <i>Critical role of friction for a
-single particle falling through a funnel</i>. Units: lengths in H, times in &radic;(H/g), impulses in
-m&radic;(gH), energies in mgH. Claims confirmed by the data: {n_hold} of {len(entries)}.</p>
+single particle falling through a funnel</i>. Units: {units}. Claims confirmed by the data: {n_hold} of
+{len(entries)}.</p>
 <nav>{nav}</nav>
 {sections}
+{script}
 </body>
 </html>
 """

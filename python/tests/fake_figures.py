@@ -74,7 +74,8 @@ def _theta_sweep(outdir, figure, panels, series, values, observables, dists=("li
                     rows.append(_sweep_row(pid, point, dist if series != "release_dist" else v))
     panel_list = [(pid, f"β0 = {beta0:g}") for pid, beta0 in panels]
     meta = _meta(figure, "theta_sweep", panel_list, series, list(observables), {"e": 0.99},
-                 "the mean duration just above 45° is far larger than just below", True)
+                 "the mean duration just above 45° is far larger than just below", True,
+                 run_time_basis={"batch_time_s": 6.0, "batch_collisions": 4.0e6, "figure_collisions": 1.0e6})
     return _write(outdir, meta, ("panel",) + SWEEP_COLUMNS, rows)
 
 
@@ -167,6 +168,7 @@ def write_fake_dataset(outdir):
             rows.append([pid, mu, x, state, xc, -xc])
     meta = _meta("fig11", "closed_final", [(p, f"μ = {m:g}") for p, m in zip("abcd", mus)], "mu", [],
                  {"theta": 50.0, "e": 1.0, "beta0": 0.0, "gap": 0.0}, "two final states only", True)
+    meta["caption"] = r"$x_c/L$ of the last two collisions against $x_0/L$, $\sqrt{H/g}$ and $\frac{2}{5} m a^2$."
     dirs.append(_write(outdir, meta, ("panel", "mu", "release", "state", "x1_over_L", "x2_over_L"), rows))
 
     rows = []

@@ -11,6 +11,7 @@ import pytest
 
 from fake_figures import EVENT_COLUMNS, bounce, write_fake_dataset
 from funnel import plot
+from funnel.mathml import text_to_html
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -50,7 +51,7 @@ def test_index_links_every_figure_with_its_caption_and_check(dataset):
         meta, _ = plot.load_figure(d)
         assert f'src="{d.name}/{d.name}.png"' in page
         assert f'href="{d.name}/{d.name}.svg"' in page
-        assert html.escape(meta["caption"]) in page
+        assert text_to_html(meta["caption"]) in page
         assert html.escape(meta["check"]["claim"]) in page
     assert page.count("✔ holds") == 8 and page.count("✘ does not hold") == 1  # fig07 is marked as failing
     assert "/tmp" not in page and str(outdir) not in page  # relative links only
@@ -134,3 +135,132 @@ def test_labels():
     assert plot.axis_label("duration") == r"average duration [$\sqrt{H/g}$]"
     assert plot.axis_label("energy_loss") == r"average energy loss [$mgH$]"
     assert plot.pretty("β0 = -0.31") == "$\\beta_0$ = \u22120.31"
+
+
+# ---------------------------------------------------------------------------------------------
+# Curves that coincide stay visible
+
+def _labelled_lines(ax):
+    return {line.get_label(): line for line in ax.get_lines() if not line.get_label().startswith("_")}
+
+
+def test_coinciding_curves_differ_in_dashes_and_markers(dataset):
+    _, dirs = dataset
+    meta, columns = plot.load_figure(next(d for d in dirs if d.name == "fig03"))
+    columns = dict(columns)
+    # Make mu = 5 identical to mu = 1, as in the paper: both must still be seen.
+    one, five = columns["mu"] == 1.0, columns["mu"] == 5.0
+    columns["duration_mean"] = columns["duration_mean"].copy()
+    columns["duration_mean"][five] = columns["duration_mean"][one]
+    fig = plot.plot_figure(meta, columns)
+    for ax in fig.axes:
+        lines = _labelled_lines(ax)
+        if not lines:
+            continue
+        styles = {(str(line.get_linestyle()), line.get_marker()) for line in lines.values()}
+        assert len(styles) == len(lines), "two curves share dashes and marker"
+        mu1, mu5 = lines[plot.series_label("mu", 1.0)], lines[plot.series_label("mu", 5.0)]
+        assert mu1.get_linestyle() == "-" and mu5.get_linestyle() == "--"
+        assert mu5.get_zorder() > mu1.get_zorder()  # the dashed curve on top: both colours show
+        assert mu1.get_markevery() != mu5.get_markevery()  # markers at different angles
+
+
+def test_theta_sweep_rows_show_all_their_data(dataset):
+    _, dirs = dataset
+    meta, columns = plot.load_figure(next(d for d in dirs if d.name == "fig06"))
+    columns = dict(columns, duration_mean=columns["duration_mean"].copy())
+    columns["duration_mean"][columns["panel"] == "b"] *= 3.0  # the middle panel has the largest values
+    fig = plot.plot_figure(meta, columns)
+    for ax in fig.axes:
+        lo, hi = ax.get_ylim()
+        for line in ax.get_lines():
+            y = np.asarray(line.get_ydata(), dtype=float)
+            if len(y) > 2:
+                assert lo == 0 and np.nanmax(y) <= hi, ax.get_title()
+
+
+def _caption(figure):
+    import tomllib
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[2] / "paper" / f"{figure}.toml"
+    with open(path, "rb") as f:
+        return tomllib.load(f)["caption"]
+
+
+@pytest.mark.parametrize("figure,index_a,index_b", [("fig03", 4, 5), ("fig04", 4, 5), ("fig05", 4, 5),
+                                                    ("fig12", 1, 2)])
+def test_captions_say_how_coinciding_curves_are_drawn(figure, index_a, index_b):
+    caption = _caption(figure)
+    for index in (index_a, index_b):
+        dashes, marker = plot.style_description(index).split(", ")
+        assert dashes in caption and marker in caption, (figure, index)
+
+
+def test_eigenvalue_legend_explains_dashes_and_equal_moduli_stay_visible(dataset):
+    _, dirs = dataset
+    meta, columns = plot.load_figure(next(d for d in dirs if d.name == "fig10"))
+    columns = dict(columns, mod3=columns["mod2"].copy())  # |lambda_2| = |lambda_3|
+    fig = plot.plot_figure(meta, columns)
+    legend = fig.legends[0]
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert "stable" in labels and "unstable" in labels
+    handles = dict(zip(labels, getattr(legend, "legend_handles", None) or legend.legendHandles))
+    assert handles["stable"].get_linestyle() == "-" and handles["unstable"].get_linestyle() == "--"
+    l2, l3 = handles[r"$|\lambda_2|$"], handles[r"$|\lambda_3|$"]
+    assert l2.get_marker() != l3.get_marker() and l2.get_linewidth() > 2 * l3.get_linewidth()
+    caption = _caption("fig10")
+    for index in (1, 2):
+        assert plot.MARKER_NAMES[index] in caption
+
+
+def test_closed_final_y_range_fits_the_data(dataset):
+    _, dirs = dataset
+    meta, columns = plot.load_figure(next(d for d in dirs if d.name == "fig11"))
+    reach = float(np.max(np.abs(np.concatenate([columns["x1_over_L"], columns["x2_over_L"]]))))
+    assert reach < 0.6
+    fig = plot.plot_figure(meta, columns)
+    for ax in fig.axes:
+        if ax.get_visible() and ax.collections:
+            lo, hi = ax.get_ylim()
+            assert lo == -hi and reach < hi < 1.3 * reach
+
+
+def test_report_shows_n_only_where_it_applies_and_per_figure_run_times(dataset):
+    outdir, _ = dataset
+    page = (outdir / "index.html").read_text()
+    sections = {s.split('"', 1)[0]: s for s in page.split('<section id="')[1:]}
+    for name, section in sections.items():
+        kind = plot.load_figure(outdir / name)[0]["kind"]
+        assert ("release positions" in section) == (kind in ("theta_sweep", "release_scan", "closed_final",
+                                                             "periodic_fraction")), name
+    assert "computed in 1.5 s (its share of the 6 s batch" in sections["fig03"] and "25%" in sections["fig03"]
+    assert "computed in 1.5 s" in sections["fig10"] and "batch" not in sections["fig10"]
+
+
+def test_report_renders_maths_as_mathml(dataset):
+    outdir, _ = dataset
+    page = (outdir / "index.html").read_text()
+    visible = page
+    for tag in ("annotation", "script"):  # TeX source kept for copying, and the player's code
+        while f"<{tag}" in visible:
+            start = visible.index(f"<{tag}")
+            visible = visible[:start] + visible[visible.index(f"</{tag}>", start) + len(tag) + 3:]
+    assert "<math>" in page and "<msub><mi>x</mi><mi>c</mi></msub>" in page and "<mfrac>" in page
+    assert "x_c/L" not in visible and "$" not in visible and "\\sqrt" not in visible
+    assert "β0" not in visible  # the panels' "β0 = 0.31" is shown as a subscript
+
+
+def test_report_embeds_a_player_with_the_figure_data(dataset):
+    import json
+    outdir, _ = dataset
+    page = (outdir / "index.html").read_text()
+    assert page.count('<div class="player" id="player-fig08">') == 1 and "FunnelPlayer" in page
+    start = page.index('<script type="application/json" id="player-data-fig08">')
+    data = json.loads(page[page.index(">", start) + 1:page.index("</script>", start)])
+    meta, columns = plot.load_figure(outdir / "fig08")
+    assert [p["id"] for p in data["panels"]] == ["a", "b"]
+    for panel in data["panels"]:
+        rows = plot._panel_rows(columns, panel["id"])
+        assert panel["events"]["time"] == rows["time"].tolist()
+        assert panel["events"]["omega_after"] == rows["omega_after"].tolist()
+        assert panel["geometry"] == meta["geometry"][panel["id"]]
