@@ -74,7 +74,7 @@ TEXT_COLUMNS = frozenset({"panel", "kind", "wall", "regime", "status", "state", 
 #: Kinds drawn by funnel.plot_orbits (imported when first needed).
 ORBIT_KINDS = ("funnel_sketch", "period2_orbits", "retrace_orbits", "retrace_windows")
 
-KINDS = ("theta_sweep", "release_scan", "trajectories", "eigenvalues", "closed_final", "periodic_fraction") + ORBIT_KINDS
+KINDS = ("theta_sweep", "release_scan", "trajectories", "eigenvalues", "closed_final", "periodic_fraction")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -504,7 +504,7 @@ def plot_figure(meta, columns):
         from .plot_orbits import PLOTTERS as orbit_plotters
         PLOTTERS.update(orbit_plotters)
     if kind not in PLOTTERS:
-        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are {', '.join(KINDS)}")
+        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are {', '.join(KINDS + ORBIT_KINDS)}")
     with matplotlib.rc_context(STYLE):
         return PLOTTERS[kind](meta, columns)
 
