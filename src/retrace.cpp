@@ -208,6 +208,35 @@ class Search {
     return o;
   }
 
+  /// The orbit at the refined release, or at one of its neighbouring doubles if the engine brings
+  /// that one back to rest closer: for strongly unstable orbits (|trace| in the thousands) the last
+  /// bit of x0/L matters at the 1e-12 level.
+  std::optional<Orbit> polish(double f, const Bracket& br) const {
+    std::optional<Orbit> best = orbit_at(f, br);
+    if (!best) return best;
+    double best_error = return_error(*best);
+    double below = f, above = f;
+    for (int step = 0; step < polish_steps && best_error > polish_threshold; ++step) {
+      below = std::nextafter(below, -2.0);
+      above = std::nextafter(above, 2.0);
+      for (const double x : {below, above}) {
+        const auto o = orbit_at(x, br);
+        if (!o) continue;
+        const double err = return_error(*o);
+        if (err < best_error) {
+          best = o;
+          best_error = err;
+        }
+      }
+    }
+    return best;
+  }
+
+  double return_error(const Orbit& o) const {
+    const ReturnCheck r = check_return(p_, o);
+    return r.left ? std::numeric_limits<double>::infinity() : std::max(r.position_error, r.speed);
+  }
+
   Probe at(double f, int k = -1) const { return probe(p_, g_, f, k < 0 ? opt_.max_bounces : k); }
 
   const Geometry& geometry() const { return g_; }
@@ -215,6 +244,8 @@ class Search {
  private:
   static constexpr int max_depth = 24;  // the half line's grid step / 2^24: about 3e-11 in x0/L
   static constexpr double vertex_clearance = 1e-9;  // lowest collision height / release height
+  static constexpr double polish_threshold = 2e-13;  // return error (H, sqrt(gH)) below which no polishing
+  static constexpr int polish_steps = 8;             // neighbouring doubles tried on each side
   Params p_;
   Geometry g_;
   Options opt_;
@@ -262,7 +293,7 @@ std::vector<Orbit> find_orbits(const Params& params, const Options& options) {
   for (const Bracket& br : brackets) {
     const auto f = search.refine(br);
     if (!f) continue;
-    const auto o = search.orbit_at(*f, br);
+    const auto o = search.polish(*f, br);
     if (!o) continue;
     const bool seen = std::any_of(found.begin(), found.end(), [&](const Orbit& x) {
       return x.bounces == o->bounces && x.turn == o->turn && std::fabs(x.release - o->release) < 1e-12;
@@ -302,7 +333,7 @@ std::optional<Orbit> transfer(const Orbit& orbit, const Params& target, const Op
   if (!lo || !hi || !crosses(br.turn, *lo, *hi)) return std::nullopt;
   const auto f = search.refine(br);
   if (!f) return std::nullopt;
-  return search.orbit_at(*f, br);
+  return search.polish(*f, br);
 }
 
 }  // namespace funnel::retrace
