@@ -290,6 +290,10 @@ FigureData retrace_orbits(const FigureSpec& fig, int threads) {
     const retrace::Window& w = ranked[i].widest;
     // Drawn at the middle grid angle of its widest stability window.
     const auto first = std::find(setup.thetas.begin(), setup.thetas.end(), w.theta_from);
+    if (setup.thetas.end() - first < w.points) {
+      holds = false;
+      continue;
+    }
     const double theta = *(first + (w.points - 1) / 2);
     const auto o = std::find_if(orbits.begin(), orbits.end(), [&](const retrace::Orbit& x) {
       return x.theta == theta && x.sequence == w.sequence && x.turn == w.turn && x.stable;
