@@ -85,7 +85,7 @@ class Search {
   Search(const Params& p, const Options& o) : p_(p), g_(make_geometry(p)), opt_(o) {}
 
   /// Brackets on the interval [a, b] for k >= k_min; bisects where the sequences part.
-  void brackets(double a, const Probe& pa, double b, const Probe& pb, int k_min, int depth, std::vector<Bracket>& out) {
+  void brackets(double a, const Probe& pa, double b, const Probe& pb, int k_min, int depth, std::vector<Bracket>& out) const {
     const int agree = std::min(agreeing_prefix(pa, pb), opt_.max_bounces);
     for (int k = k_min; k <= agree; ++k) {
       for (const Turn turn : {Turn::Wall, Turn::Rest}) {
@@ -238,8 +238,6 @@ class Search {
   }
 
   Probe at(double f, int k = -1) const { return probe(p_, g_, f, k < 0 ? opt_.max_bounces : k); }
-
-  const Geometry& geometry() const { return g_; }
 
  private:
   static constexpr int max_depth = 24;  // the half line's grid step / 2^24: about 3e-11 in x0/L
