@@ -17,6 +17,8 @@ void add_sweep_command(CLI::App& app, const std::string& command_line);
 void add_closed_command(CLI::App& app, const std::string& command_line);
 /// Registers `funnel orbit`: eigenvalues and stability of the period-2 orbit.
 void add_orbit_command(CLI::App& app, const std::string& command_line);
+/// Registers `funnel retrace`: self-retracing orbits of the elastic frictionless particle.
+void add_retrace_command(CLI::App& app, const std::string& command_line);
 /// Registers `funnel paper`: every figure of the paper.
 void add_paper_command(CLI::App& app, const std::string& command_line);
 /// Registers `funnel bench`: collisions per second of the reference ensemble and sweep.

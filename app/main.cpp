@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   funnel::cli::add_sweep_command(app, command_line);
   funnel::cli::add_closed_command(app, command_line);
   funnel::cli::add_orbit_command(app, command_line);
+  funnel::cli::add_retrace_command(app, command_line);
   funnel::cli::add_paper_command(app, command_line);
   funnel::cli::add_bench_command(app, command_line);
 

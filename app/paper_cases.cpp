@@ -122,10 +122,15 @@ FigureSpec load_figure(const std::string& path, bool quick) {
   }
   if (fig.panels.empty()) fig.panels.push_back({"a", "", {}});
   if (const toml::table* c = tbl["check"].as_table()) fig.check = *c;
+  if (const toml::table* s = tbl["settings"].as_table()) fig.settings = *s;
   if (quick) {
     if (const toml::table* q = tbl["quick"].as_table()) {
       for (auto&& [k, node] : *q) {
         const std::string key = canonical(std::string(k.str()));
+        if (key == "settings" && node.is_table()) {
+          for (auto&& [sk, sv] : *node.as_table()) fig.settings.insert_or_assign(sk, sv);
+          continue;
+        }
         if (key == "samples") {
           fig.samples = static_cast<std::int64_t>(number_of(node, path, key));
           continue;

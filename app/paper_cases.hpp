@@ -23,7 +23,8 @@ struct PanelSpec {
 /// A figure definition read from paper/figNN.toml.
 struct FigureSpec {
   std::string id;                        ///< "fig03"
-  std::string kind;                      ///< theta_sweep, release_scan, trajectories, eigenvalues, closed_final, periodic_fraction
+  std::string kind;                      ///< theta_sweep, release_scan, trajectories, eigenvalues, closed_final, periodic_fraction,
+                                         ///< funnel_sketch, period2_orbits, retrace_orbits, retrace_windows
   std::string title, caption, series;
   std::vector<std::string> observables;
   std::int64_t samples = default_samples;
@@ -33,6 +34,7 @@ struct FigureSpec {
   std::vector<PanelSpec> panels;           ///< at least one
   std::vector<double> thetas, mus, releases;
   toml::table check;                       ///< how the paper's claim is checked
+  toml::table settings;                    ///< [settings]: kind-specific settings ([quick.settings] merged under --quick)
   std::string source;                      ///< path of the TOML file
 };
 

@@ -11,6 +11,7 @@
 #include "funnel/engine.hpp"
 #include "funnel/orbit.hpp"
 #include "output.hpp"
+#include "paper_orbits.hpp"
 
 namespace funnel::cli {
 
@@ -414,7 +415,7 @@ std::map<std::string, double> attributed_collisions(const std::vector<FigureSpec
 }
 
 void request_sweeps(const FigureSpec& fig, SweepCache& cache) {
-  if (fig.kind != "theta_sweep") return;
+  if (fig.kind != "theta_sweep" && fig.kind != "retrace_windows") return;
   for (const PanelSpec& panel : fig.panels) {
     for (const std::string& dist : fig.dists) {
       for (const Params& p : sweep_points(fig, panel)) cache.request(p, dist_of(dist), fig.samples);
@@ -429,6 +430,10 @@ FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int th
   if (fig.kind == "eigenvalues") return eigenvalue_figure(fig);
   if (fig.kind == "closed_final") return closed_final(fig, threads, progress);
   if (fig.kind == "periodic_fraction") return periodic_fraction(fig, threads, progress);
+  if (fig.kind == "funnel_sketch") return funnel_sketch(fig);
+  if (fig.kind == "period2_orbits") return period2_orbits(fig);
+  if (fig.kind == "retrace_orbits") return retrace_orbits(fig, threads);
+  if (fig.kind == "retrace_windows") return retrace_windows(fig, cache, threads);
   throw UsageError("invalid figure definition '" + fig.source + "': unknown kind '" + fig.kind + "'");
 }
 

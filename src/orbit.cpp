@@ -142,6 +142,13 @@ State fixed_point_right(double y_star, const OrbitParams& params) {
   return State(y_star, -r, r / std::tan(params.theta_deg * deg), 0.0);
 }
 
+State fixed_point_45(double y_star, double ratio, const OrbitParams& params) {
+  // At 45 degrees cot(theta) = 1, so the landing condition u'v' = y* cot(theta) (Eq. 22) holds for any ratio;
+  // the slip q + a omega = (u' - v')/sqrt(2) + a omega vanishes on both walls (Eqs. 16-17).
+  const double u = std::sqrt(y_star * ratio), v = std::sqrt(y_star / ratio);
+  return State(y_star, u, v, -(u - v) / (std::numbers::sqrt2 * params.radius));
+}
+
 Eigen::Vector4d state_scale(double y_star, const OrbitParams& params) {
   const double r = std::sqrt(y_star);
   return Eigen::Vector4d(y_star, r, r, r / params.radius);

@@ -147,7 +147,11 @@ TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
       {"fig10", "theta,mod1,mod2,mod3,mod4,stable\n"},
       {"fig11", "panel,mu,release,state,x1_over_L,x2_over_L\n"},
       {"fig12", "theta,mu,periodic_fraction\n"},
-      {"fig13", "panel,theta,e,mu,beta0"}};
+      {"fig13", "panel,theta,e,mu,beta0"},
+      {"fig01", "name,x,y\n"},
+      {"fig02x", "theta,duration_mean,duration_sem,baseline,elevated,covered\n"},
+      {"fig09", "panel,theta,time,kind,wall,x,y,u_before,v_before,omega_before,u_after,v_after,omega_after"},
+      {"fig14", "panel,theta,time,kind,wall,x,y,u_before,v_before,omega_before,u_after,v_after,omega_after"}};
   for (const auto& [fig, header] : figures) {
     const std::string dir = std::string("paper/") + fig + "/" + fig;
     const std::string csv = read(dir + ".csv");
@@ -229,6 +233,44 @@ TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
   const std::string csv = read("other.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2);
   EXPECT_FALSE(fs::exists(path("other.csv.partial")));
+}
+
+TEST_F(Cli, RetraceListsOrbitsAndWindowsAndRejectsAnotherMaterial) {
+  ASSERT_EQ(run("retrace --theta 60,61 --format csv --out " + path("r.csv")).code, 0);
+  const std::string csv = read("r.csv");
+  EXPECT_EQ(csv.rfind("theta,release,sequence,turn,bounces,collisions_per_period,period,trace,stable,y0,turn_x,"
+                      "min_height,residual,return_position_error,return_speed\n", 0), 0u) << csv.substr(0, 300);
+  EXPECT_NE(csv.find(",LRLR,wall,4,7,"), std::string::npos) << csv;  // the 60-degree orbit of Fig. 2's peak
+  EXPECT_NE(csv.find(",RLRL,wall,4,7,"), std::string::npos) << csv;  // and its mirror image
+  ASSERT_EQ(run("retrace --theta 59:62:0.5 --turns wall,rest --format csv --windows --out " + path("w.csv")).code, 0);
+  const std::string w = read("w.csv");
+  EXPECT_EQ(w.rfind("sequence,turn,bounces,window,theta_from,theta_to,points\n", 0), 0u) << w;
+  EXPECT_NE(w.find("LRLR,rest,4,stable,59.5,"), std::string::npos) << w;
+  const std::size_t files = file_count();
+  const std::string out = " --out " + path("x.json");
+  expect_rejected(run("retrace --e 0.99" + out), "e", "0.99");
+  expect_rejected(run("retrace --mu 1" + out), "mu", "1");
+  expect_rejected(run("retrace --theta 95" + out), "theta", "95");
+  expect_rejected(run("retrace --gap 0.01" + out), "gap", "0.01");
+  expect_rejected(run("retrace --max-bounces 0" + out), "max-bounces", "0");
+  expect_rejected(run("retrace --scan-points 2.5" + out), "scan-points", "2.5");
+  expect_rejected(run("retrace --turns sideways" + out), "turns", "sideways");
+  expect_rejected(run("retrace --windows" + out), "windows", "csv");
+  EXPECT_EQ(file_count(), files);  // nothing written
+}
+
+TEST_F(Cli, PaperRetraceChecksCanFail) {
+  // With at most one collision before the turn there is no self-retracing orbit (a fall from rest
+  // never meets a wall head-on): no peak of Fig. 2 can be explained, and the check must say so.
+  fs::create_directories(path("defs"));
+  std::string fig = read_source(FUNNEL_SOURCE_DIR "/paper/fig02x.toml");
+  const auto at = fig.find("max_bounces = 6\n");
+  ASSERT_NE(at, std::string::npos);
+  fig.replace(at, 16, "max_bounces = 1\n");
+  write("defs/fig02x.toml", fig);
+  const Result r = run("paper --quick --no-plots --paper-dir " + path("defs") + " --out " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(read("p/fig02x/fig02x.json").find("\"holds\": false"), std::string::npos);
 }
 
 TEST_F(Cli, PaperChecksCanFail) {

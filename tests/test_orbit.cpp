@@ -95,6 +95,22 @@ TEST(OrbitMaps, FixedPointIsInvariantUnderPeriodMap) {
       }
 }
 
+TEST(OrbitMaps, FortyFiveDegreeFamilyIsPeriodTwoWithSpin) {
+  for (double b : kBeta0s) {
+    const OrbitParams p = params_for(45.0, b);
+    for (const double ratio : {0.5, 1.0, 1.6, 3.0}) {
+      const State star = orbit::fixed_point_45(0.4, ratio, p);
+      EXPECT_LE(scaled_difference(orbit::period_map(star, p), star, 0.4, p), 1e-12) << "ratio " << ratio;
+      // After the right-wall collision the velocity is turned by 90 degrees: (u, v) -> (-v, u).
+      const State right = orbit::map_left_to_right(star, p);
+      EXPECT_NEAR(right[1], -star[2], 1e-12);
+      EXPECT_NEAR(right[2], star[1], 1e-12);
+      EXPECT_NEAR(right[3], star[3], 1e-9 * std::fabs(star[3]) + 1e-12);
+    }
+    EXPECT_NE(orbit::fixed_point_45(0.4, 1.6, p)[3], 0.0);  // it spins unless u' = v'
+  }
+}
+
 TEST(OrbitMaps, LeftCollisionStateMapsToItsMirrorImageOnTheRightWall) {
   for (double th : kThetas)
     for (double b : kBeta0s) {

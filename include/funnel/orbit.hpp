@@ -38,6 +38,12 @@ State fixed_point(double y_star, const OrbitParams& params);
 /// P2* = F1(P1*) = (y*, -sqrt(y*), sqrt(y*) cot(theta), 0): the orbit just after its right-wall collision.
 State fixed_point_right(double y_star, const OrbitParams& params);
 
+/// At theta = 45 degrees only (Fig. 9b): the state just after the left-wall collision of a period-2 orbit at
+/// height y* > 0 with u'/v' = ratio > 0, u' v' = y*, and the spin that makes the slip zero at both walls,
+/// omega' = -(u' - v')/(sqrt(2) a); the right-wall collision rotates the velocity by 90 degrees. At other angles
+/// the state is returned too but is not periodic.
+State fixed_point_45(double y_star, double ratio, const OrbitParams& params);
+
 /// Natural scale of each component near the orbit: (y*, sqrt(y*), sqrt(y*), sqrt(y*)/a), in the state's units.
 Eigen::Vector4d state_scale(double y_star, const OrbitParams& params);
 

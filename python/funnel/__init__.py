@@ -7,7 +7,8 @@ A Python front end to the C++ library, like the ``funnel`` command line:
 - :func:`sweep` — one ensemble per point of a parameter grid (``funnel sweep``);
 - :func:`geometry` — the funnel's derived geometry, for plotting;
 - :func:`orbit` — eigenvalues and stability of the period-2 orbit (``funnel orbit``);
-- :func:`closed` — periodic orbit or rest in a closed funnel (``funnel closed``).
+- :func:`closed` — periodic orbit or rest in a closed funnel (``funnel closed``);
+- :func:`retrace` — self-retracing orbits of the elastic frictionless particle (``funnel retrace``).
 
 Model parameters are keyword arguments named like the command-line options with '-' turned
 into '_': theta [deg], e, mu, beta0, radius, gap, inertia, t_max, max_collisions. Units:
@@ -44,6 +45,7 @@ from ._api import (
     geometry,
     git_commit,
     orbit,
+    retrace,
     simulate,
     sweep,
     valid_range,
@@ -63,6 +65,7 @@ __all__ = [
     "geometry",
     "git_commit",
     "orbit",
+    "retrace",
     "simulate",
     "sweep",
     "valid_range",

@@ -310,3 +310,54 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4
                           _count("threads", threads), _scalar("max_time", max_time),
                           _count("max_coll", max_coll), _count("window", window),
                           _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol))
+
+
+def retrace(theta, max_bounces=6, scan_points=1000, turns="wall", radius=0.01, gap=0.0, threads=0):
+    """Self-retracing orbits of the elastic frictionless particle (e = 1, mu = 0), like ``funnel retrace``.
+
+    Released at rest, the particle turns back after k <= max_bounces collisions, either by hitting a
+    wall perpendicularly ("wall" turn) or by rising vertically to rest at a second point of the
+    release height ("rest" turn), retraces its path and comes back to rest at the release point.
+    Every release x0/L in (-1, 1) with such an orbit is found (mirror images included), with its
+    period and the stability of the reduced (area-preserving) collision map.
+
+    Parameters
+    ----------
+    theta : float, sequence, 1-D array or "start:stop:step"
+        Wall angle(s) in degrees.
+    max_bounces : int
+        K, the largest number of collisions up to the turn, 1 <= K <= 20.
+    scan_points : int
+        Grid points on x0/L in (-1, 0) before refinement, 16 <= N <= 10^6.
+    turns : {"wall", "wall,rest"}
+        Which turns to find.
+    radius, gap : float
+        a/H and d/H; gap 0 is the closed funnel, gap > 2a keeps the orbits that stay above the
+        faces' lower ends.
+    threads : int
+        Worker threads over the angles, 0 = all cores; results are bit-identical for any count.
+
+    Returns
+    -------
+    dict
+        ``radius``, ``gap``; ``orbits``: one 1-D array per column of ``funnel retrace --format csv``
+        (theta, release = x0/L, sequence (str, e.g. "LRL"), turn (str), bounces, collisions_per_period,
+        period [sqrt(H/g)], trace, stable (bool, |trace| < 2), y0 [H], turn_x (x/L of the turn),
+        min_height [H], residual [rad], return_position_error [H], return_speed [sqrt(gH)]);
+        ``windows``: sequence, turn, bounces, window ("exists" or "stable"), theta_from, theta_to,
+        points.
+
+    Examples
+    --------
+    >>> r = funnel.retrace(60)
+    >>> r["orbits"]["sequence"], r["orbits"]["release"], r["orbits"]["stable"]
+    """
+    thetas = _axis_values("theta", theta)
+    if turns not in ("wall", "wall,rest", "rest,wall", "all"):
+        raise ValueError(f"invalid turns = {turns!r}: valid values are wall, wall,rest (or all)")
+    result = _core().retrace(thetas, _scalar("radius", radius), _scalar("gap", gap),
+                             _count("max_bounces", max_bounces), _count("scan_points", scan_points),
+                             turns != "wall", _count("threads", threads))
+    _text_columns(result["orbits"], ("sequence", "turn"))
+    _text_columns(result["windows"], ("sequence", "turn", "window"))
+    return result

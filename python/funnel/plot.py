@@ -7,7 +7,9 @@ drawn; figures are drawn on the Agg canvas without pyplot, so no display is need
 are read with the standard csv module and numpy.
 
 Figure kinds (the JSON's "kind"): theta_sweep (Figs. 2-6, 13), release_scan (Fig. 7),
-trajectories (Fig. 8), eigenvalues (Fig. 10), closed_final (Fig. 11), periodic_fraction (Fig. 12).
+trajectories (Fig. 8), eigenvalues (Fig. 10), closed_final (Fig. 11), periodic_fraction (Fig. 12);
+and, drawn by :mod:`funnel.plot_orbits`, funnel_sketch (Fig. 1), period2_orbits (Fig. 9),
+retrace_orbits (Fig. 14), retrace_windows (Fig. 2 explained, beyond the paper).
 
 ``python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png`` draws one simulated
 trajectory instead (:mod:`funnel.trajectory`).
@@ -77,6 +79,9 @@ STYLE = {
 
 #: Columns read as text even when every field looks like a number.
 TEXT_COLUMNS = frozenset({"panel", "kind", "wall", "regime", "status", "state", "release_dist"})
+
+#: Kinds drawn by funnel.plot_orbits (imported when first needed).
+ORBIT_KINDS = ("funnel_sketch", "period2_orbits", "retrace_orbits", "retrace_windows")
 
 KINDS = ("theta_sweep", "release_scan", "trajectories", "eigenvalues", "closed_final", "periodic_fraction")
 
@@ -477,8 +482,11 @@ def plot_figure(meta, columns):
     """The matplotlib Figure of a figure's data (meta from the JSON, columns from the CSV)."""
     import matplotlib
     kind = meta.get("kind")
+    if kind in ORBIT_KINDS and kind not in PLOTTERS:
+        from .plot_orbits import PLOTTERS as orbit_plotters
+        PLOTTERS.update(orbit_plotters)
     if kind not in PLOTTERS:
-        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are {', '.join(KINDS)}")
+        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are {', '.join(KINDS + ORBIT_KINDS)}")
     with matplotlib.rc_context(STYLE):
         return PLOTTERS[kind](meta, columns)
 

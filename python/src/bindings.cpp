@@ -421,6 +421,8 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
 
 }  // namespace
 
+void bind_retrace(py::module_& m);  // bind_retrace.cpp
+
 PYBIND11_MODULE(_funnel, m) {
   m.doc() = "Compiled core of funnel (pybind11). Use the documented wrappers in the `funnel` package.";
   m.def("simulate", &simulate, py::arg("model"), py::arg("release"), py::arg("events"));
@@ -449,4 +451,5 @@ PYBIND11_MODULE(_funnel, m) {
   m.def("orbit", &orbit, py::arg("thetas"), py::arg("beta0"), py::arg("inertia"), py::arg("radius"), py::arg("y_star"));
   m.def("closed", &closed, py::arg("model"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
         py::arg("max_time"), py::arg("max_coll"), py::arg("window"), py::arg("slip_tol"), py::arg("height_tol"));
+  bind_retrace(m);
 }
