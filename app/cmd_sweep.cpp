@@ -187,6 +187,10 @@ struct SweepCommand {
     spec["version"] = version();
     spec["samples"] = options.samples;
     spec["release_dist"] = to_string(options.dist);
+    spec["seed"] = options.seed;
+    spec["release"] = options.release_mean;
+    spec["release_sd"] = options.release_sd;
+    spec["velocity_sd"] = options.velocity_sd;
     spec["grid"] = nlohmann::ordered_json::array();
     for (const Axis& a : axes) spec["grid"].push_back({{"name", a.name}, {"values", a.values}});
     const std::string spec_line = "# funnel sweep spec: " + spec.dump() + "\n";
@@ -321,7 +325,7 @@ void add_sweep_command(CLI::App& app, const std::string& command_line) {
   CLI::App* sub = app.add_subcommand(
       "sweep", "Run one ensemble per point of a parameter grid (Cartesian product of lists/ranges) to CSV.");
   add_model_options(*sub, cmd->model, true);
-  add_ensemble_options(*sub, cmd->ens);
+  add_ensemble_options(*sub, cmd->ens, true, false);
   sub->add_option("--config", cmd->config,
                   "TOML file with the grid: model parameters (number, array or \"start:stop:step\") at the top "
                   "level or in a [grid] table, samples, release-dist; command-line options override it")

@@ -1,6 +1,8 @@
 // Data and claim checks of each kind of figure (see paper/*.toml and docs/paper.md).
 #include "paper_figures.hpp"
 
+#include "funnel/observables.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -45,12 +47,8 @@ ReleaseDist dist_of(const std::string& text) { return *parse_release_dist(text);
 
 /// Mean of an observable ("duration", "impulse", "energy_loss", ...) in an ensemble result.
 double mean_of(const EnsembleResult& r, const std::string& observable) {
-  if (observable == "duration") return r.duration.mean;
-  if (observable == "impulse") return r.impulse.mean;
-  if (observable == "normal_impulse") return r.normal_impulse.mean;
-  if (observable == "energy_loss") return r.energy_loss.mean;
-  if (observable == "collisions") return r.collisions.mean;
-  return std::nan("");
+  const ObservableInfo* o = find_observable(observable);
+  return o != nullptr ? r[o->id].mean : std::nan("");
 }
 
 // ---- theta sweeps (Figs. 2-6, 13) ----

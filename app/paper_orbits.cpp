@@ -376,8 +376,8 @@ FigureData retrace_windows(const FigureSpec& fig, const SweepCache& cache, int t
   for (const Params& p : expand_grid(base, fig.grid)) {
     const EnsembleResult& r = cache.get(p, *parse_release_dist(fig.dists.front()), fig.samples);
     theta.push_back(p.theta);
-    mean.push_back(r.duration.mean);
-    sem.push_back(r.duration.sem);
+    mean.push_back(r[Observable::Duration].mean);
+    sem.push_back(r[Observable::Duration].sem);
   }
   const double h = theta.size() > 1 ? theta[1] - theta[0] : 1.0;
   // The orbits: found in the closed funnel, then carried over to the figure's (open) funnel,
