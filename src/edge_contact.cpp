@@ -7,6 +7,7 @@
 //   spin              kappa a omega' = F
 //   slip              s = a (omega - psi')
 //   about E           a^2 psi' + kappa a^2 omega = L0 - a G,  G = integral of cos(psi) dt
+// (the last is the angular momentum about the edge point, which only gravity's torque changes).
 // Rolling (s = 0, F = -kappa cos(psi)/(1 + kappa)) conserves (1 + kappa) a^2 W / 2 + a sin(psi);
 // sliding (F = -sigma mu N) gives the linear equation dW/dpsi + 2 sigma mu W =
 // (2/a)(sigma mu sin(psi) - cos(psi)), solved in closed form. So W, N and the rolling friction
@@ -304,11 +305,13 @@ class Contact {
     Quadrature<decltype(integrand)> integrate(integrand, m_.mu);
     Vec4 total{};
     double x_end = 1.0;
-    const double l0 = a_ * a_ * rate() + m_.kappa * a_ * a_ * omega_;  // angular momentum about E
+    // While sliding the friction torque is the only one: kappa a omega' = F = -sigma mu N, so the
+    // spin follows from the normal impulse (exactly unchanged when mu = 0).
+    const double omega_a = omega_;
+    auto spin_after = [&](const Vec4& acc) { return omega_a - b.sigma * m_.mu * acc[2] / (m_.kappa * a_); };
     auto slip = [&](const Vec4& acc, double x) {
       const double w = x == 1.0 ? w_b : std::fmax(w_at(x), 0.0);
-      const double rate_x = dir_ * std::sqrt(w);
-      return (l0 - a_ * acc[1]) / (m_.kappa * a_) - a_ * rate_x * (1.0 + m_.kappa) / m_.kappa;
+      return a_ * (spin_after(acc) - dir_ * std::sqrt(w));
     };
     if (span != 0.0) {
       const int pieces = b.regime == Regime::Sliding ? slip_pieces : 1;
@@ -349,7 +352,7 @@ class Contact {
       omega_ = rate();
     } else {
       res_.tangential_impulse += -b.sigma * m_.mu * total[2];
-      omega_ = (l0 - a_ * total[1]) / (m_.kappa * a_ * a_) - rate() / m_.kappa;
+      omega_ = spin_after(total);
     }
     return why;
   }

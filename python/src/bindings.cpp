@@ -11,6 +11,7 @@
 #include <complex>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -171,24 +172,16 @@ template <class Work>
 void run_interruptible(funnel::EnsembleOptions& options, const py::object& progress, Work work) {
   std::atomic<bool> cancel{false};
   options.cancel = &cancel;
-  bool interrupted = false;
-  std::string callback_error;
+  std::optional<py::error_already_set> error;  // Ctrl-C, or what the callback raised
   const funnel::Progress report = [&](std::int64_t done, std::int64_t total) {
     if (cancel.load()) return;
     py::gil_scoped_acquire gil;
-    if (PyErr_CheckSignals() != 0) {
-      PyErr_Clear();
-      interrupted = true;
+    try {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!progress.is_none()) progress(done, total);
+    } catch (py::error_already_set& e) {
+      error.emplace(std::move(e));
       cancel = true;
-      return;
-    }
-    if (!progress.is_none()) {
-      try {
-        progress(done, total);
-      } catch (py::error_already_set& e) {
-        callback_error = e.what();
-        cancel = true;
-      }
     }
   };
   {
@@ -196,11 +189,7 @@ void run_interruptible(funnel::EnsembleOptions& options, const py::object& progr
     work(report);
   }
   options.cancel = nullptr;
-  if (interrupted) {
-    PyErr_SetNone(PyExc_KeyboardInterrupt);
-    throw py::error_already_set();
-  }
-  if (!callback_error.empty()) throw std::runtime_error("progress callback failed: " + callback_error);
+  if (error) throw *error;
 }
 
 // ---------------------------------------------------------------------------------------------
