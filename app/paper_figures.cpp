@@ -13,35 +13,13 @@
 #include "funnel/engine.hpp"
 #include "funnel/orbit.hpp"
 #include "output.hpp"
+#include "paper_designer.hpp"
 #include "paper_orbits.hpp"
+#include "paper_util.hpp"
 
 namespace funnel::cli {
 
 namespace {
-
-std::string fmt(double x, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::ordered_json verdict(const std::string& claim, const std::string& measured, bool holds) {
-  return {{"claim", claim}, {"measured", measured}, {"holds", holds}};
-}
-
-/// One panel per value, labelled "<symbol> = <value><unit>": ids a, b, c, ...
-nlohmann::ordered_json value_panels(const std::vector<double>& values, const std::string& symbol, const std::string& unit) {
-  nlohmann::ordered_json panels = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    panels.push_back({{"id", std::string(1, static_cast<char>('a' + i))}, {"label", symbol + " = " + fmt(values[i]) + unit}});
-  }
-  return panels;
-}
-
-std::string claim_of(const FigureSpec& fig) { return fig.check["claim"].value_or(std::string()); }
-double check_number(const FigureSpec& fig, const char* key, double fallback) {
-  return fig.check[key].value<double>().value_or(fallback);
-}
 
 ReleaseDist dist_of(const std::string& text) { return *parse_release_dist(text); }
 
@@ -432,6 +410,7 @@ FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int th
   if (fig.kind == "period2_orbits") return period2_orbits(fig);
   if (fig.kind == "retrace_orbits") return retrace_orbits(fig, threads);
   if (fig.kind == "retrace_windows") return retrace_windows(fig, cache, threads);
+  if (fig.kind == "wear_profiles") return wear_profiles(fig, threads, progress);
   throw UsageError("invalid figure definition '" + fig.source + "': unknown kind '" + fig.kind + "'");
 }
 

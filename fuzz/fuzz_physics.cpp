@@ -1,6 +1,6 @@
 // libFuzzer target: Walton's collision law and whole trajectories over the valid parameter space.
 //
-// The fuzz bytes are mapped into valid ranges (MODEL.md §1), with extra weight on the ends of
+// The fuzz bytes are mapped into valid ranges (docs/model.md §1), with extra weight on the ends of
 // each range. Invariants checked (any violation aborts, which libFuzzer reports as a crash):
 //  - collide: finite output; kinetic energy never increases; the closed-form energy loss equals
 //    the loss computed from the states; |J_t| <= mu J_N; sliding has |J_t| = mu J_N; sticking
@@ -193,7 +193,7 @@ void check_trajectory(const Params& p, const Geometry& g, const Trajectory& t) {
   if (t.status == Status::Exited) {
     require(s.r.y == g.y_bottom, "exited off the exit level", s.r.y, g.y_bottom);
     // Between the edges, except that a particle left with a normal speed below p_c on an edge
-    // (and |v|^2 < a) flies through the corner it would roll over (MODEL.md, Edges): by at most
+    // (and |v|^2 < a) flies through the corner it would roll over (docs/model.md §5b): by at most
     // |v| (|v| + sqrt(|v|^2 + 2a)) < 3a beyond the edge point.
     require(std::fabs(s.r.x) <= g.half_gap + 3.0 * g.radius, "exited outside the gap", s.r.x, g.half_gap);
   } else if (t.status == Status::Rest) {

@@ -1,4 +1,4 @@
-// Classification of the long-time state of a closed funnel (MODEL.md §10).
+// Classification of the long-time state of a closed funnel (docs/theory.md).
 #include "funnel/closed.hpp"
 
 #include <omp.h>

@@ -1,4 +1,4 @@
-// The event loop of one trajectory (MODEL.md §3-7).
+// The event loop of one trajectory (docs/model.md §3-7).
 #include "funnel/engine.hpp"
 
 #include <cmath>

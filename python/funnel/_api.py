@@ -42,7 +42,7 @@ OBSERVABLES = tuple(o["name"] for o in OBSERVABLE_TABLE if o["summarized"]) or (
 #: Statistics of each observable: mean, sample standard deviation, standard error, min, max.
 STATISTICS = ("mean", "std", "sem", "min", "max")
 
-#: Default number of release positions of an ensemble (MODEL.md section 8).
+#: Default number of release positions of an ensemble (docs/model.md §8).
 DEFAULT_SAMPLES = 4000
 
 

@@ -9,7 +9,8 @@ are read with the standard csv module and numpy.
 Figure kinds (the JSON's "kind"): theta_sweep (Figs. 2-6, 13), release_scan (Fig. 7),
 trajectories (Fig. 8), eigenvalues (Fig. 10), closed_final (Fig. 11), periodic_fraction (Fig. 12);
 and, drawn by :mod:`funnel.plot_orbits`, funnel_sketch (Fig. 1), period2_orbits (Fig. 9),
-retrace_orbits (Fig. 14), retrace_windows (Fig. 2 explained, beyond the paper).
+retrace_orbits (Fig. 14), retrace_windows (Fig. 2 explained, beyond the paper); and, drawn by
+:mod:`funnel.plot_designer`, wear_profiles (where the walls wear, beyond the paper).
 
 ``python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png`` draws one simulated
 trajectory instead (:mod:`funnel.trajectory`).
@@ -25,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-#: Axis label and unit of each observable (units of the nondimensionalisation, MODEL.md).
+#: Axis label and unit of each observable (units of the nondimensionalisation, docs/model.md §1).
 OBSERVABLE_LABELS = {
     "duration": ("average duration", r"$\sqrt{H/g}$"),
     "impulse": ("average impulse", r"$m\sqrt{gH}$"),
@@ -82,6 +83,9 @@ TEXT_COLUMNS = frozenset({"panel", "kind", "wall", "regime", "status", "state", 
 
 #: Kinds drawn by funnel.plot_orbits (imported when first needed).
 ORBIT_KINDS = ("funnel_sketch", "period2_orbits", "retrace_orbits", "retrace_windows")
+
+#: Kinds drawn by funnel.plot_designer (imported when first needed).
+DESIGNER_KINDS = ("wear_profiles",)
 
 KINDS = ("theta_sweep", "release_scan", "trajectories", "eigenvalues", "closed_final", "periodic_fraction")
 
@@ -485,8 +489,12 @@ def plot_figure(meta, columns):
     if kind in ORBIT_KINDS and kind not in PLOTTERS:
         from .plot_orbits import PLOTTERS as orbit_plotters
         PLOTTERS.update(orbit_plotters)
+    if kind in DESIGNER_KINDS and kind not in PLOTTERS:
+        from .plot_designer import PLOTTERS as designer_plotters
+        PLOTTERS.update(designer_plotters)
     if kind not in PLOTTERS:
-        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are {', '.join(KINDS + ORBIT_KINDS)}")
+        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are "
+                         f"{', '.join(KINDS + ORBIT_KINDS + DESIGNER_KINDS)}")
     with matplotlib.rc_context(STYLE):
         return PLOTTERS[kind](meta, columns)
 

@@ -92,3 +92,18 @@ def test_the_tables_describe_every_parameter_and_observable():
     assert all(p["range"] for p in funnel.PARAMETERS)
     r = funnel.simulate(release=0.2)
     assert all(o["name"] in r for o in funnel.OBSERVABLE_TABLE)
+
+
+def test_the_wear_figure_is_made_and_drawn(cli, tmp_path):
+    import json
+
+    from funnel import plot
+    cli("paper", "--quick", "--no-plots", "--only", "figwear", "--out", tmp_path, json_output=False)
+    meta = json.loads((tmp_path / "figwear" / "figwear.json").read_text())
+    assert meta["check"]["holds"] is True and meta["beyond_paper"] is True
+    totals = {t["theta"]: t for t in meta["totals"]}
+    assert totals[46.0]["impulse_per_particle"] > 2 * totals[44.0]["impulse_per_particle"]
+    assert plot.main([str(tmp_path)]) == 0
+    png = tmp_path / "figwear" / "figwear.png"
+    assert png.stat().st_size > 10_000
+    assert "Beyond the paper" in (tmp_path / "index.html").read_text()
