@@ -35,7 +35,7 @@ struct TrajectoryCommand {
                        "the wear table; use --format json for both");
     }
     check_writable(out);
-    const Geometry g = make_geometry(params);
+    const Funnel g = make_funnel(params);
     EventLog log;
     Wear wear = Wear::make(g, bins);
     const Trajectory t = simulate_release(params, g, *x, events ? &log : nullptr, bins > 0 ? &wear : nullptr);
@@ -45,7 +45,7 @@ struct TrajectoryCommand {
       nlohmann::ordered_json j;
       j["params"] = params_json(params);
       j["release"] = *x;
-      j["x0"] = *x * g.half_width;
+      j["x0"] = release_point(g, *x).x;
       j["y0"] = g.y_release;
       j["u0"] = params.release_u;
       j["v0"] = params.release_v;

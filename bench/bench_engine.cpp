@@ -39,9 +39,10 @@ void BM_NextEventFaceToFace(benchmark::State& st) {
   s.r = {-0.3, 0.3 * g.tan_t};
   s.v = {0.9, 0.4};
   FlightStart start;
-  start.on_face = Wall::Left;
+  start.on_face = WallPart{Wall::Left, 0};
+  const Funnel f = make_funnel(p);
   for (auto _ : st) {
-    const NextEvent ev = next_event(g, s, start);
+    const NextEvent ev = next_event(f, s, start);
     benchmark::DoNotOptimize(ev);
     s.v.y = 0.4 + 1e-9 * ev.dt;
   }

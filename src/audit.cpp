@@ -42,42 +42,50 @@ double min_distance(const State& s, double duration, Vec2 e) {
   return best;
 }
 
-/// Deepest position behind a wall's centre line (>= 0, in units of the length) while the foot of
-/// the perpendicular lies on the face. Both the distance to the line and the position along the
-/// face are concave quadratics in time, so the extremes lie at the ends of the part of the flight
-/// that is over the face: the ends of the flight or the roots of the position along the face.
-double face_depth(const Geometry& g, const State& s, double duration, Wall wall) {
-  const double ws = wall_sign(wall);
-  auto along = [&](Vec2 r) { return ws * g.cos_t * (r.x - ws * g.x_face_end) + g.sin_t * (r.y - g.y_face_end); };
-  std::array<double, 4> times{0.0, duration, -1.0, -1.0};
-  // along(t) = c0 + c1 t - (sin/2) t^2
-  const double c0 = along(s.r);
-  const double c1 = ws * g.cos_t * s.v.x + g.sin_t * s.v.y;
-  const double c2 = -0.5 * g.sin_t;
-  const double disc = c1 * c1 - 4.0 * c2 * c0;
-  if (disc >= 0.0 && c2 != 0.0) {
+/// Deepest position behind a face's centre line (>= 0, in units of the length) while the foot of
+/// the perpendicular lies on the face's region. Both the distance to the line and the position
+/// along the face are concave (or linear) in time, so the extremes lie at the ends of the part of
+/// the flight that is over the region: the ends of the flight or where the position along the
+/// face crosses the region's ends.
+double face_depth(const Face& face, const State& s, double duration, double radius) {
+  std::array<double, 6> times{0.0, duration, -1.0, -1.0, -1.0, -1.0};
+  // along(t) = c0 + c1 t + c2 t^2, with c2 = -up_y / 2
+  const double c1 = dot(face.up, s.v);
+  const double c2 = -0.5 * face.up.y;
+  int m = 2;
+  for (const double end : {0.0, face.length}) {
+    if (!std::isfinite(end)) continue;
+    const double c0 = along_face(face, s.r) - end;
+    if (c2 == 0.0) {
+      if (c1 != 0.0) times[m++] = -c0 / c1;
+      continue;
+    }
+    const double disc = c1 * c1 - 4.0 * c2 * c0;
+    if (disc < 0.0) continue;
     const double root = std::sqrt(disc);
-    times[2] = (-c1 - root) / (2.0 * c2);
-    times[3] = (-c1 + root) / (2.0 * c2);
+    times[m++] = (-c1 - root) / (2.0 * c2);
+    times[m++] = (-c1 + root) / (2.0 * c2);
   }
-  const double slack = 1e-12 * g.radius;
+  const double slack = 1e-12 * radius;
   double depth = 0.0;
-  for (const double t : times) {
+  for (int i = 0; i < m; ++i) {
+    const double t = times[i];
     if (!(t >= 0.0 && t <= duration)) continue;
     const Vec2 r = advance(s, t).r;
-    if (!g.closed && along(r) < -slack) continue;
-    depth = std::max(depth, -face_distance(g, wall, r));
+    const double along = along_face(face, r);
+    if (along < -slack || along > face.length + slack) continue;
+    depth = std::max(depth, -face_distance(face, r));
   }
   return depth;
 }
 
 }  // namespace
 
-FlightAudit audit_flights(const Geometry& g, const State& initial, const std::vector<Event>& events) {
+FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vector<Event>& events) {
   FlightAudit audit;
   audit.trajectories = 1;
   audit.min_edge_distance = never;
-  const double a = g.radius;
+  const double a = f.radius;
   State s = initial;
   double t_prev = 0.0;
   bool in_contact = false;
@@ -85,17 +93,18 @@ FlightAudit audit_flights(const Geometry& g, const State& initial, const std::ve
     if (!in_contact) {
       const double duration = std::fmax(e.time - t_prev, 0.0);
       ++audit.flights;
-      if (!g.closed) {
-        for (const Wall wall : {Wall::Left, Wall::Right}) {
-          const double dist = min_distance(s, duration, edge_point(g, wall)) / a;
+      for (const Side& side : f.sides) {
+        for (const Corner& c : side.corners) {
+          if (!c.convex) continue;
+          const double dist = min_distance(s, duration, c.point) / a;
           audit.min_edge_distance = std::min(audit.min_edge_distance, dist);
           if (dist < 1.0 - audit_tolerance) ++audit.edge_overlaps;
         }
-      }
-      for (const Wall wall : {Wall::Left, Wall::Right}) {
-        const double depth = face_depth(g, s, duration, wall) / a;
-        audit.max_face_depth = std::max(audit.max_face_depth, depth);
-        if (depth > audit_tolerance) ++audit.face_crossings;
+        for (const Face& face : side.faces) {
+          const double depth = face_depth(face, s, duration, a) / a;
+          audit.max_face_depth = std::max(audit.max_face_depth, depth);
+          if (depth > audit_tolerance) ++audit.face_crossings;
+        }
       }
     }
     switch (e.kind) {
@@ -104,8 +113,11 @@ FlightAudit audit_flights(const Geometry& g, const State& initial, const std::ve
       case EventKind::ContactEnd:
       case EventKind::EdgeContactEnd: in_contact = false; break;
       case EventKind::Exit:
-        // Between the edge circles: |x| <= d/2 - a at the level of the edges.
-        if (std::fabs(e.position.x) > g.half_gap - a * (1.0 - audit_tolerance)) ++audit.exits_outside;
+        // Between the edge circles: at least a from both lower ends.
+        for (const Side& side : f.sides) {
+          const Vec2 d = e.position - side.corners[0].point;
+          if (std::hypot(d.x, d.y) < a * (1.0 - audit_tolerance)) ++audit.exits_outside;
+        }
         break;
       default: break;
     }

@@ -60,7 +60,7 @@ ClosedSample classify_release(const Params& params, double fraction, const Close
   p.gap = 0.0;
   p.t_max = options.max_time;
   p.max_collisions = options.max_collisions;
-  const Geometry g = make_geometry(p);
+  const Funnel g = make_funnel(p);
   OrbitWatch watch(options);
   const Trajectory t = simulate_release(p, g, fraction, &watch);
   ClosedSample s;

@@ -2,6 +2,7 @@
 #include "funnel/contact.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "funnel/roots.hpp"
 
@@ -17,21 +18,21 @@ struct Phase {
   Regime regime = Regime::Sliding;
 };
 
-Phase sliding_phase(double slip_sign, const Geometry& g, const Material& m) {
+Phase sliding_phase(double slip_sign, const Face& g, const Material& m) {
   Phase ph;
-  ph.force = -m.mu * g.cos_t * slip_sign;
-  ph.accel = g.sin_t + ph.force;
-  ph.slip_rate = g.sin_t + ph.force * (1.0 + 1.0 / m.kappa);
+  ph.force = -m.mu * g.cos_a * slip_sign;
+  ph.accel = g.sin_a + ph.force;
+  ph.slip_rate = g.sin_a + ph.force * (1.0 + 1.0 / m.kappa);
   ph.regime = Regime::Sliding;
   return ph;
 }
 
 /// The phase that follows zero slip: rolling if static friction can hold it, else sliding forward.
-Phase zero_slip_phase(const Geometry& g, const Material& m) {
-  if (g.sin_t * m.kappa <= m.mu * g.cos_t * (1.0 + m.kappa)) {  // tan(theta) <= mu (1 + kappa)/kappa
+Phase zero_slip_phase(const Face& g, const Material& m) {
+  if (g.sin_a * m.kappa <= m.mu * g.cos_a * (1.0 + m.kappa)) {  // tan(angle) <= mu (1 + kappa)/kappa
     Phase ph;
-    ph.force = -g.sin_t * m.kappa / (1.0 + m.kappa);
-    ph.accel = g.sin_t / (1.0 + m.kappa);
+    ph.force = -g.sin_a * m.kappa / (1.0 + m.kappa);
+    ph.accel = g.sin_a / (1.0 + m.kappa);
     ph.slip_rate = 0.0;
     ph.regime = Regime::Rolling;
     return ph;
@@ -41,26 +42,30 @@ Phase zero_slip_phase(const Geometry& g, const Material& m) {
 
 }  // namespace
 
-ContactResult slide_to_end(const State& start, Wall wall, const Geometry& g, const Material& m) {
-  const double ws = wall_sign(wall);
+ContactResult slide_on_face(const State& start, const Face& face, double ws, const Material& m) {
   // Down-slope unit vector along the face, and the spin measured in the same sense:
   // s_hat = w + a Omega is the down-slope velocity of the contact point.
-  const Vec2 down{-ws * g.cos_t, -g.sin_t};
+  const Vec2 down = face.down;
   const double spin_sign = -ws;
   double w = dot(start.v, down);
   double spin = spin_sign * start.omega;
   double slip = w + m.radius * spin;
-  // Distance left along the face to its end (C*, or the vertex when closed).
-  double remaining = (start.r.y - g.y_face_end) / g.sin_t;
+  // Distance up the face from the lower end of its region (C*, a corner, or the vertex of a
+  // closed funnel); by height where the face slopes, along it on a ledge.
+  double remaining = face.sin_a > 0.0 ? (start.r.y - face.low.y) / face.sin_a : along_face(face, start.r);
+  const bool bounded = face.length < std::numeric_limits<double>::infinity();
 
   ContactResult res;
-  const double c_cos = g.cos_t;
+  const double c_cos = face.cos_a;
   auto run_phase = [&](const Phase& ph, double t_limit) {
-    // First time the end is reached in this phase: w t + accel t^2/2 = remaining. At the end
-    // already: done if moving down; moving up (handed over by the edge), it comes back later.
-    const double t_end = remaining > 0.0 ? first_positive_root(0.5 * ph.accel, w, -remaining)
+    // First time the lower end is reached in this phase: w t + accel t^2/2 = remaining. At the
+    // end already: done if moving down; moving up (handed over by an edge), it comes back later.
+    const double t_low = remaining > 0.0 ? first_positive_root(0.5 * ph.accel, w, -remaining)
                          : w >= 0.0      ? 0.0
                                          : first_positive_root(0.5 * ph.accel, w, 0.0);
+    // ... and the upper end of a bounded region: w t + accel t^2/2 = remaining - length.
+    const double t_high = bounded ? first_positive_root(0.5 * ph.accel, w, face.length - remaining) : never;
+    const double t_end = std::fmin(t_low, t_high);
     const double dt = std::fmin(t_end, t_limit);
     res.phases[res.phase_count++] = {remaining, w, ph.accel, ph.force, dt};
     const double ds = w * dt + 0.5 * ph.accel * dt * dt;
@@ -74,12 +79,13 @@ ContactResult slide_to_end(const State& start, Wall wall, const Geometry& g, con
     spin += ph.force / (m.kappa * m.radius) * dt;
     slip += ph.slip_rate * dt;
     res.last_regime = ph.regime;
+    res.at_high_end = dt >= t_high && t_high < t_low;
     return dt >= t_end || remaining <= 0.0;
   };
 
   bool done = false;
   if (slip != 0.0) {
-    const Phase first = sliding_phase(slip > 0.0 ? 1.0 : -1.0, g, m);
+    const Phase first = sliding_phase(slip > 0.0 ? 1.0 : -1.0, face, m);
     res.first_regime = first.regime;
     // The slip reaches zero only if it decreases in magnitude.
     const double t_stop = slip * first.slip_rate < 0.0 ? -slip / first.slip_rate : never;
@@ -87,15 +93,15 @@ ContactResult slide_to_end(const State& start, Wall wall, const Geometry& g, con
     if (!done) slip = 0.0;  // exactly: the phase ended because the slip vanished
   }
   if (!done) {
-    const Phase second = zero_slip_phase(g, m);
+    const Phase second = zero_slip_phase(face, m);
     if (res.duration == 0.0) res.first_regime = second.regime;
-    run_phase(second, never);  // accel > 0 here, so the end is always reached
+    run_phase(second, never);  // the end is reached: accel > 0 down a slope; on a ledge it rolls on
   }
 
   res.end.v = w * down;
   res.end.omega = spin_sign * spin;
-  // Place the centre exactly at the end of the face, so no drift accumulates.
-  res.end.r = g.closed ? Vec2{0.0, 0.0} : Vec2{ws * g.x_face_end, g.y_face_end};
+  // Place the centre exactly at the end of the region, so no drift accumulates.
+  res.end.r = res.at_high_end ? face.high : face.low;
   return res;
 }
 

@@ -48,38 +48,30 @@ std::string_view to_string(Regime regime) {
 
 namespace {
 
-/// The mirror image x -> -x of a state: the right wall's edge contacts are solved as the left
-/// wall's, so that the engine stays exactly mirror symmetric.
-State mirror(const State& s) {
-  State m = s;
-  m.r.x = 0.0 - s.r.x;  // 0 - x keeps a zero +0 (see ensemble.cpp)
-  m.v.x = 0.0 - s.v.x;
-  m.omega = 0.0 - s.omega;
-  return m;
-}
-
-/// Hand-overs between a face and its edge within one sustained contact after which the run is
-/// stopped as trapped: a guard that no physical contact reaches (each hand-over back to the
-/// face needs friction to reverse the motion on the edge, which dissipates energy).
+/// Hand-overs between faces and edges within one sustained contact after which the run is
+/// stopped as trapped: a guard that no physical contact reaches (each hand-over back up needs
+/// friction to reverse the motion, which dissipates energy).
 constexpr int max_hand_overs = 1000;
+
+int index_of(Wall w) { return w == Wall::Left ? 0 : 1; }
 
 /// The running trajectory: state, clock, observables and the optional log.
 class Run {
  public:
-  Run(const Params& params, const Geometry& g, const State& initial, EventSink* sink, Wear* wear)
-      : params_(params), g_(g), mat_(material(params)), law_(collision_constants(mat_)), sink_(sink), wear_(wear),
+  Run(const Params& params, const Funnel& f, const State& initial, EventSink* sink, Wear* wear)
+      : params_(params), f_(f), kappa_(params.inertia), radius_(params.radius), sink_(sink), wear_(wear),
         state_(initial) {
-    e0_ = energy(initial, mat_.kappa, mat_.radius);
-    // The left edge's arc of contact normals, from the face's normal n_L down to the wall's
-    // underside; the right edge is solved in the mirror image.
-    const double top = std::atan2(g_.cos_t, g_.sin_t);
-    left_arc_ = {edge_point(g_, Wall::Left), top - std::numbers::pi, top};
+    e0_ = energy(initial, kappa_, radius_);
+    if (f_.closed) {
+      const Face& lowest = f_.sides[0].faces[0];
+      y_rest_ = lowest.low.y;
+    }
   }
 
   Trajectory finish() {
     loop();
     out_.final_state = state_;
-    const double e_end = energy(state_, mat_.kappa, mat_.radius);
+    const double e_end = energy(state_, kappa_, radius_);
     out_.energy_loss = e0_ - e_end;
     // A loss within rounding of zero below it (an elastic run) is reported as 0, not -2e-16.
     const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * std::fmax(std::fabs(e0_), std::fabs(e_end));
@@ -88,11 +80,15 @@ class Run {
   }
 
  private:
+  const Side& side(Wall w) const { return f_.sides[index_of(w)]; }
+  const Face& face(WallPart p) const { return side(p.wall).faces[p.index]; }
+  const Corner& corner(WallPart p) const { return side(p.wall).corners[p.index]; }
+
   void loop() {
     FlightStart start;
     int stalled = 0;
     for (;;) {
-      const NextEvent ev = next_event(g_, state_, start);
+      const NextEvent ev = next_event(f_, state_, start);
       if (!(time_ + ev.dt <= params_.t_max)) {  // also catches dt = never (a closed funnel at rest)
         state_ = advance(state_, std::fmin(params_.t_max - time_, 1e300));
         end(Status::Trapped, params_.t_max);
@@ -106,22 +102,26 @@ class Run {
         // In a closed funnel collisions pile up in no time only where the faces meet: they have
         // collapsed onto the vertex (a wedge collapse; beta0 = 1 keeps the spin's energy above
         // eps_rest), which is rest (found by fuzz/fuzz_physics). Elsewhere it is the Zeno guard.
-        out_.stalled = !g_.closed;
-        end(g_.closed ? Status::Rest : Status::Trapped, time_);
+        out_.stalled = !f_.closed;
+        end(f_.closed ? Status::Rest : Status::Trapped, time_);
         return;
       }
       switch (ev.kind) {
         case EventKind::Exit:
-          state_.r.y = g_.y_bottom;
+          if (f_.horizontal_outlet) {
+            state_.r.y = f_.y_exit;
+          } else {
+            state_.r = state_.r - dot(f_.exit_normal, state_.r - f_.exit_point) * f_.exit_normal;
+          }
           out_.exit_state = state_;
           log_simple(EventKind::Exit, std::nullopt);
           end(Status::Exited, time_);
           return;
         case EventKind::Face:
-          start = face_collision(ev.wall);
+          start = face_collision(ev.part);
           break;
         case EventKind::Edge:
-          start = edge_collision(ev.wall);
+          start = edge_collision(ev.part);
           break;
         default:
           break;
@@ -136,8 +136,8 @@ class Run {
         end(Status::Trapped, time_);
         return;
       }
-      if (g_.closed && energy(state_, mat_.kappa, mat_.radius) < params_.eps_rest) {
-        end(Status::Rest, time_);  // energy above the vertex (E_vertex = 0) has run out
+      if (f_.closed && energy(state_, kappa_, radius_) - y_rest_ < params_.eps_rest) {
+        end(Status::Rest, time_);  // the energy above the bottom has run out
         return;
       }
     }
@@ -150,8 +150,8 @@ class Run {
   }
 
   /// Book-keeping shared by face and edge collisions; returns the collision.
-  Collision apply_collision(EventKind kind, Wall wall, Vec2 n) {
-    const Collision c = collide(state_, n, law_);
+  Collision apply_collision(EventKind kind, WallPart part, Vec2 n) {
+    const Collision c = collide(state_, n, side(part.wall).law);
     ++out_.collisions;
     const double j = std::sqrt(c.j_n * c.j_n + c.j_t * c.j_t);
     out_.impulse += j;
@@ -159,13 +159,14 @@ class Run {
     out_.energy_loss_events += c.energy_lost;
     if (wear_ != nullptr) {
       if (kind == EventKind::Edge) {
-        wear_->add_edge(wall, c.j_n, j, true);
+        wear_->add_edge(part.wall, c.j_n, j, true);
       } else {
-        wear_->add_collision(wall, distance_up_face(wall, state_.r), c.j_n, j);
+        const Face& fc = face(part);
+        wear_->add_collision(part.wall, fc.surface_offset + along_face(fc, state_.r), c.j_n, j);
       }
     }
     if (sink_ != nullptr) {
-      Event e = base_event(kind, wall);
+      Event e = base_event(kind, part.wall);
       e.velocity_after = c.after.v;
       e.omega_after = c.after.omega;
       e.slip_before = c.slip;
@@ -179,40 +180,41 @@ class Run {
     return c;
   }
 
-  /// Distance of the contact point up the face from the face's end (C*, or the vertex).
-  double distance_up_face(Wall wall, Vec2 r) const {
-    const double ws = wall_sign(wall);
-    return ws * g_.cos_t * (r.x - ws * g_.x_face_end) + g_.sin_t * (r.y - g_.y_face_end);
+  FlightStart face_collision(WallPart part) {
+    const Vec2 n = face(part).n;
+    // Put the centre exactly on the centre line, so that the next flight starts at distance 0.
+    const double delta = face_distance(face(part), state_.r);
+    state_.r = state_.r - delta * n;
+    return collide_with_face(part);
   }
 
-  FlightStart face_collision(Wall wall) {
-    const Vec2 n = face_normal(g_, wall);
-    // Put the centre exactly on the centre line, so that the next flight starts at distance 0.
-    const double delta = face_distance(g_, wall, state_.r);
-    state_.r = state_.r - delta * n;
-    const Collision c = apply_collision(EventKind::Face, wall, n);
+  /// A collision with a face (the centre on its centre line): a flight from it, or a collapse
+  /// into sustained contact.
+  FlightStart collide_with_face(WallPart part) {
+    const Vec2 n = face(part).n;
+    const Collision c = apply_collision(EventKind::Face, part, n);
     if (c.p_after >= params_.p_c) {
       FlightStart start;
-      start.on_face = wall;
+      start.on_face = part;
       return start;
     }
     // Inelastic collapse: drop the residual normal speed and go on in sustained contact.
     const State before = state_;
     state_.v = state_.v - c.p_after * n;
-    return sustained_contact(wall, false, before);
+    return sustained_contact(part, false, before);
   }
 
-  FlightStart edge_collision(Wall wall) {
-    const Vec2 e = edge_point(g_, wall);
+  FlightStart edge_collision(WallPart part) {
+    const Vec2 e = corner(part).point;
     const Vec2 d = state_.r - e;
     const double dist = std::sqrt(dot(d, d));
     const Vec2 n = (1.0 / dist) * d;
-    state_.r = e + g_.radius * n;  // exactly on the edge circle
+    state_.r = e + radius_ * n;  // exactly on the edge circle
     ++out_.edge_collisions;
-    const Collision c = apply_collision(EventKind::Edge, wall, n);
+    const Collision c = apply_collision(EventKind::Edge, part, n);
     FlightStart start;
     if (c.p_after >= params_.p_c) {
-      start.on_edge = wall;
+      start.on_edge = part;
       return start;
     }
     // The edge chatter has collapsed. Without its residual normal speed the particle either
@@ -220,42 +222,63 @@ class Run {
     // the edge circle, whose quartic then has no root at t = 0+ (its linear term taken as 0).
     State tangential = state_;
     tangential.v = state_.v - c.p_after * n;
-    if (edge_normal_force(tangential, e, g_.radius) > 0.0) return sustained_contact(wall, true, state_);
-    start.on_edge = wall;
-    start.slow_edge = wall;
+    if (edge_normal_force(tangential, e, radius_) > 0.0) return sustained_contact(part, true, state_);
+    start.on_edge = part;
+    start.slow_edge = part;
     return start;
   }
 
-  /// Sustained contact after a collapse on `wall`'s face (on_edge false) or edge, through every
-  /// hand-over between the face and its edge, until the particle flies off, rests at the vertex
-  /// of a closed funnel, or the time cap falls inside it. `before` is the state before the
-  /// residual normal speed was dropped (the particle is already tangential in state_).
-  FlightStart sustained_contact(Wall wall, bool on_edge, const State& before) {
+  /// Sustained contact after a collapse on a face (on_edge false) or on a corner's edge, through
+  /// every hand-over between faces and edges, until the particle flies off, rests, or the time
+  /// cap falls inside it. `before` is the state before the residual normal speed was dropped
+  /// (the particle is already tangential in state_ for a face).
+  FlightStart sustained_contact(WallPart part, bool on_edge, const State& before) {
     State entry = before;
     if (on_edge) {
-      const Vec2 n = (1.0 / g_.radius) * (state_.r - edge_point(g_, wall));
+      const Vec2 n = (1.0 / radius_) * (state_.r - corner(part).point);
       state_.v = state_.v - dot(state_.v, n) * n;
     }
     for (int hop = 0; hop < max_hand_overs; ++hop) {
       if (!on_edge) {
-        face_contact(wall, entry);
+        const bool high = face_contact(part, entry);
         if (done_) return {};
-        // At C*: the edge holds the particle if the normal force it needs is positive
-        // (v^2 < a cos(theta)); otherwise it flies on, tangent to the face and the edge circle.
-        if (!(edge_normal_force(state_, edge_point(g_, wall), g_.radius) > 0.0)) {
+        const WallPart end_corner{part.wall, high ? part.index + 1 : part.index};
+        const Corner& c = corner(end_corner);
+        if (!c.convex) {
+          // Where two faces meet: the particle runs into the neighbouring face.
+          const WallPart next{part.wall, high ? part.index + 1 : part.index - 1};
+          if (!(dot(state_.v, face(next).n) < 0.0)) {
+            FlightStart start;
+            start.on_face = part;
+            return start;
+          }
+          return collide_with_face(next);
+        }
+        // At a convex corner: the edge holds the particle if the normal force it needs is
+        // positive (v^2 < a cos(angle) at the end of a face); otherwise it flies on, tangent to
+        // the face and the edge circle.
+        if (!(edge_normal_force(state_, c.point, radius_) > 0.0)) {
           FlightStart start;
-          start.skip_face = wall;
-          start.skip_edge = wall;
+          start.skip_face = part;
+          start.skip_edge = end_corner;
           return start;
         }
+        part = end_corner;
       } else {
-        edge_contact_phase(wall, entry);
+        const EdgeExit exit = edge_contact_phase(part, entry);
         if (done_) return {};
-        if (last_edge_exit_ != EdgeExit::High) {
+        if (exit == EdgeExit::TakeOff || (exit == EdgeExit::Low && part.index == 0)) {
           FlightStart start;
-          start.skip_edge = wall;  // it left the circle tangentially, curving away from it
+          start.skip_edge = part;  // it left the circle tangentially, curving away from it
           return start;
         }
+        // Back onto a face: the one above at the lower end of its region, or the one below at
+        // its upper end; put the centre exactly there, tangent to the face.
+        part = exit == EdgeExit::High ? part : WallPart{part.wall, part.index - 1};
+        const Face& fc = face(part);
+        const State arrived = state_;
+        state_.r = exit == EdgeExit::High ? fc.low : fc.high;
+        state_.v = dot(arrived.v, fc.down) * fc.down;
       }
       on_edge = !on_edge;
       entry = state_;
@@ -265,45 +288,50 @@ class Run {
     return {};
   }
 
-  /// A sustained contact with a face, from state_ (tangential) to the face's end. `entry` is
-  /// the state before the residual normal speed of a collapse was dropped (or state_).
-  void face_contact(Wall wall, const State& entry) {
+  /// A sustained contact with a face, from state_ (tangential) to an end of its region; returns
+  /// true at the upper end. `entry` is the state before the residual normal speed of a collapse
+  /// was dropped (or state_).
+  bool face_contact(WallPart part, const State& entry) {
     ++out_.contacts;
-    const double lost = energy(entry, mat_.kappa, mat_.radius) - energy(state_, mat_.kappa, mat_.radius);
+    const Side& sd = side(part.wall);
+    const Face& fc = face(part);
+    const double lost = energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
     out_.energy_loss_events += lost;
-    const ContactResult res = slide_to_end(state_, wall, g_, mat_);
+    const ContactResult res = slide_on_face(state_, fc, sd.ws, sd.material);
     if (sink_ != nullptr) {
-      Event e = base_event(EventKind::ContactStart, wall);
+      Event e = base_event(EventKind::ContactStart, part.wall);
       e.velocity_before = entry.v;
       e.omega_before = entry.omega;
       e.regime = res.first_regime;
       e.energy_lost = lost;
       sink_->record(e);
     }
-    if (time_ + res.duration > params_.t_max) {
-      // The cap falls inside the contact: stop there (rare; observables up to its start).
-      end(Status::Trapped, params_.t_max);
-      return;
+    if (!(time_ + res.duration <= params_.t_max)) {
+      // The cap falls inside the contact (or a particle rests on a ledge for ever): stop there
+      // (observables up to its start).
+      end(res.duration == never ? Status::Rest : Status::Trapped, params_.t_max);
+      return false;
     }
     time_ += res.duration;
     out_.contact_time += res.duration;
     out_.impulse += res.impulse;
     out_.normal_impulse += res.normal_impulse;
     if (wear_ != nullptr) {
-      for (int k = 0; k < res.phase_count; ++k) wear_->add_face_phase(wall, res.phases[k], g_.cos_t);
+      for (int k = 0; k < res.phase_count; ++k) wear_->add_face_phase(part.wall, res.phases[k], fc.cos_a, fc.surface_offset);
     }
     const State arrived = res.end;
     state_ = res.end;
     double lost_end = res.energy_lost;
-    if (g_.closed) {
-      // A closed funnel's contact ends at the vertex: the particle rests there (docs/model.md §5).
-      lost_end += energy(arrived, mat_.kappa, mat_.radius);
+    const bool rest = !res.at_high_end && sd.corners[part.index].bottom;
+    if (rest) {
+      // A closed funnel's contact ends at its bottom: the particle rests there (docs/model.md §5).
+      lost_end += energy(arrived, kappa_, radius_) - y_rest_;
       state_.v = {0.0, 0.0};
       state_.omega = 0.0;
     }
     out_.energy_loss_events += lost_end;
     if (sink_ != nullptr) {
-      Event e = base_event(EventKind::ContactEnd, wall);
+      Event e = base_event(EventKind::ContactEnd, part.wall);
       e.position = arrived.r;
       e.velocity_before = arrived.v;
       e.omega_before = arrived.omega;
@@ -315,22 +343,26 @@ class Run {
       e.energy_lost = lost_end;
       sink_->record(e);
     }
-    if (g_.closed) end(Status::Rest, time_);
+    if (rest) end(Status::Rest, time_);
+    return res.at_high_end;
   }
 
-  /// A sustained contact with a wall's edge point, from state_ (on the circle, tangential).
-  void edge_contact_phase(Wall wall, const State& entry) {
+  /// A sustained contact with a corner's edge point, from state_ (on the circle, tangential).
+  EdgeExit edge_contact_phase(WallPart part, const State& entry) {
     ++out_.edge_contacts;
-    const double lost = energy(entry, mat_.kappa, mat_.radius) - energy(state_, mat_.kappa, mat_.radius);
+    const Side& sd = side(part.wall);
+    const double lost = energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
     out_.energy_loss_events += lost;
-    const bool mirrored = wall == Wall::Right;
-    EdgeContactResult res = edge_contact(mirrored ? mirror(state_) : state_, left_arc_, mat_);
+    // Arcs are kept in each wall's own left-facing frame: the right wall's contacts are solved in
+    // the mirror image, which keeps the engine exactly mirror symmetric.
+    const bool mirrored = part.wall == Wall::Right;
+    EdgeContactResult res = edge_contact(mirrored ? mirror(state_) : state_, corner(part).arc, sd.material);
     if (mirrored) {
       res.end = mirror(res.end);
       res.tangential_impulse = -res.tangential_impulse;  // t = (n_y, -n_x) mirrors to -t
     }
     if (sink_ != nullptr) {
-      Event e = base_event(EventKind::EdgeContactStart, wall);
+      Event e = base_event(EventKind::EdgeContactStart, part.wall);
       e.velocity_before = entry.v;
       e.omega_before = entry.omega;
       e.regime = res.first_regime;
@@ -339,33 +371,24 @@ class Run {
     }
     if (time_ + res.duration > params_.t_max) {
       end(Status::Trapped, params_.t_max);
-      return;
+      return res.exit;
     }
     time_ += res.duration;
     out_.contact_time += res.duration;
     out_.impulse += res.impulse;
     out_.normal_impulse += res.normal_impulse;
     out_.energy_loss_events += res.energy_lost;
-    if (wear_ != nullptr) wear_->add_edge(wall, res.normal_impulse, res.impulse, false);
+    if (wear_ != nullptr) wear_->add_edge(part.wall, res.normal_impulse, res.impulse, false);
     state_ = res.end;
-    last_edge_exit_ = res.exit;
-    if (res.exit == EdgeExit::High) {
-      // Back at C*, moving up the face: put it exactly there, tangent to the face.
-      const double ws = wall_sign(wall);
-      const Vec2 down{-ws * g_.cos_t, -g_.sin_t};
-      state_.r = {ws * g_.x_face_end, g_.y_face_end};
-      state_.v = dot(res.end.v, down) * down;
-    }
     if (sink_ != nullptr) {
-      Event e = base_event(EventKind::EdgeContactEnd, wall);
-      e.velocity_before = res.end.v;
-      e.omega_before = res.end.omega;
+      Event e = base_event(EventKind::EdgeContactEnd, part.wall);
       e.regime = res.last_regime;
       e.j_n = res.normal_impulse;
       e.j_t = res.tangential_impulse;
       e.energy_lost = res.energy_lost;
       sink_->record(e);
     }
+    return res.exit;
   }
 
   Event base_event(EventKind kind, std::optional<Wall> wall) const {
@@ -386,14 +409,12 @@ class Run {
   }
 
   const Params& params_;
-  const Geometry& g_;
-  const Material mat_;
-  const CollisionConstants law_;
+  const Funnel& f_;
+  const double kappa_, radius_;
   EventSink* sink_;
   Wear* wear_;
   State state_;
-  EdgeArc left_arc_;
-  EdgeExit last_edge_exit_ = EdgeExit::TakeOff;
+  double y_rest_ = 0.0;  // closed funnel: height of the bottom, where the particle rests
   double time_ = 0.0;
   double e0_ = 0.0;
   bool done_ = false;
@@ -402,20 +423,34 @@ class Run {
 
 }  // namespace
 
-Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink, Wear* wear) {
-  return Run(params, g, initial, sink, wear).finish();
+Trajectory simulate(const Params& params, const Funnel& f, const State& initial, EventSink* sink, Wear* wear) {
+  return Run(params, f, initial, sink, wear).finish();
 }
 
-State release_state(const Params& params, const Geometry& g, double fraction) {
+Trajectory simulate(const Params& params, const Geometry&, const State& initial, EventSink* sink, Wear* wear) {
+  const Funnel f = make_funnel(params);
+  return simulate(params, f, initial, sink, wear);
+}
+
+State release_state(const Params& params, const Funnel& f, double fraction) {
   State s;
-  s.r = release_point(g, fraction);
+  s.r = release_point(f, fraction);
   s.v = {params.release_u, params.release_v};
   s.omega = params.release_spin;
   return s;
 }
 
-Trajectory simulate_release(const Params& params, const Geometry& g, double fraction, EventSink* sink, Wear* wear) {
-  return simulate(params, g, release_state(params, g, fraction), sink, wear);
+State release_state(const Params& params, const Geometry&, double fraction) {
+  return release_state(params, make_funnel(params), fraction);
+}
+
+Trajectory simulate_release(const Params& params, const Funnel& f, double fraction, EventSink* sink, Wear* wear) {
+  return simulate(params, f, release_state(params, f, fraction), sink, wear);
+}
+
+Trajectory simulate_release(const Params& params, const Geometry&, double fraction, EventSink* sink, Wear* wear) {
+  const Funnel f = make_funnel(params);
+  return simulate_release(params, f, fraction, sink, wear);
 }
 
 }  // namespace funnel

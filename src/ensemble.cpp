@@ -146,8 +146,12 @@ double sample_fraction(const EnsembleOptions& o, std::int64_t k) {
   return 0.0;
 }
 
-State sample_release(const Params& params, const Geometry& g, const EnsembleOptions& options, std::int64_t k) {
-  State s = release_state(params, g, sample_fraction(options, k));
+State sample_release(const Params& params, const Geometry&, const EnsembleOptions& options, std::int64_t k) {
+  return sample_release(params, make_funnel(params), options, k);
+}
+
+State sample_release(const Params& params, const Funnel& f, const EnsembleOptions& options, std::int64_t k) {
+  State s = release_state(params, f, sample_fraction(options, k));
   if (options.velocity_sd > 0.0) {
     const auto index = static_cast<std::uint64_t>(k);
     s.v.x += options.velocity_sd * standard_normal(options.seed, stream_velocity_u, index);
@@ -162,7 +166,7 @@ bool is_random(const EnsembleOptions& o) {
 
 bool mirror_symmetric(const Params& params, const EnsembleOptions& options) {
   return options.dist == ReleaseDist::Line && params.release_u == 0.0 && params.release_spin == 0.0 &&
-         options.velocity_sd == 0.0;
+         options.velocity_sd == 0.0 && (params.plain_v() || make_funnel(params).symmetric);
 }
 
 Trajectory mirrored(Trajectory t) {
@@ -179,11 +183,11 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
   // Per point: the engine is exactly mirror symmetric and the line distribution's samples k and
   // N-1-k are exact mirror images, so where the releases are symmetric only the first half (and
   // the middle one) is simulated.
-  std::vector<Geometry> geometries;
+  std::vector<Funnel> funnels;
   std::vector<char> mirror;
-  geometries.reserve(points.size());
+  funnels.reserve(points.size());
   for (const Params& p : points) {
-    geometries.push_back(make_geometry(p));
+    funnels.push_back(make_funnel(p));
     mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
   }
   auto unique_of = [&](std::int64_t point) { return mirror[static_cast<std::size_t>(point)] ? (n + 1) / 2 : n; };
@@ -228,7 +232,7 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
     const std::int64_t first = chunk * n_unique / blocks_per_point;
     const std::int64_t last = (chunk + 1) * n_unique / blocks_per_point;
     const Params& params = points[static_cast<std::size_t>(point)];
-    const Geometry& g = geometries[static_cast<std::size_t>(point)];
+    const Funnel& g = funnels[static_cast<std::size_t>(point)];
     const bool halved = mirror[static_cast<std::size_t>(point)] != 0;
     BlockStats& stats = blocks[static_cast<std::size_t>(task)];
     Wear wear = Wear::make(g, options.wear_bins);

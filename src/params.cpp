@@ -1,6 +1,8 @@
 // The parameter table and the validation of the model parameters (docs/model.md §1).
 #include "funnel/params.hpp"
 
+#include "funnel/funnel.hpp"
+
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -15,7 +17,7 @@ namespace {
   [](const Params& p) { return static_cast<double>(p.field); },          \
   [](Params& p, double v) { p.field = static_cast<decltype(p.field)>(v); }
 
-const std::array<ParameterInfo, 15> table{{
+const std::array<ParameterInfo, 18> table{{
     {"theta", "wall angle to the horizontal", "degrees", "0 < theta < 90 (degrees)", "60", false, true,
      FUNNEL_FIELD(theta)},
     {"e", "normal restitution", "", "0 <= e <= 1", "0.99", false, true, FUNNEL_FIELD(e)},
@@ -39,6 +41,14 @@ const std::array<ParameterInfo, 15> table{{
      "finite, |release-v| <= 1e6", "0", false, true, FUNNEL_FIELD(release_v)},
     {"release-spin", "initial spin, counter-clockwise", "sqrt(g/H)", "finite, |release-spin| <= 1e8", "0", false,
      true, FUNNEL_FIELD(release_spin)},
+    {"theta-left", "angle of the left wall to the horizontal (an asymmetric V)", "degrees",
+     "0 < theta-left < 90 (degrees)", "theta", false, true, [](const Params& p) { return p.left_angle(); },
+     [](Params& p, double v) { p.theta_left = v; }},
+    {"theta-right", "angle of the right wall to the horizontal (an asymmetric V)", "degrees",
+     "0 < theta-right < 90 (degrees)", "theta", false, true, [](const Params& p) { return p.right_angle(); },
+     [](Params& p, double v) { p.theta_right = v; }},
+    {"spout-length", "length of vertical walls (a spout) below the edges; the exit is at their lower ends", "H",
+     "spout-length >= 0 (finite), with gap > 0", "0", false, true, FUNNEL_FIELD(spout_length)},
     {"p-c", "collapse threshold on the normal speed after a collision", "sqrt(gH)", "p-c > 0 (finite)", "1e-9",
      false, false, FUNNEL_FIELD(p_c)},
     {"eps-rest", "closed funnel: energy above the vertex below which the particle rests", "mgH",
@@ -130,8 +140,31 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(params.release_height > 0.0 && std::isfinite(params.release_height))) {
     return error("release-height", params.release_height);
   }
-  {
-    const double rad = params.theta * std::numbers::pi / 180.0;
+  for (const auto& [name, value] : {std::pair<const char*, double>{"theta-left", params.theta_left},
+                                    {"theta-right", params.theta_right}}) {
+    if (value != Params::unset && !(value > 0.0 && value < 90.0)) return error(name, value);
+  }
+  if (!(params.spout_length >= 0.0 && std::isfinite(params.spout_length))) {
+    return error("spout-length", params.spout_length);
+  }
+  if (params.spout_length > 0.0 && params.gap == 0.0) {
+    ParamError err = error("spout-length", params.spout_length);
+    err.range = "spout-length = 0 in a closed funnel (gap = 0): a spout hangs below an open outlet";
+    return err;
+  }
+  if (params.profile && (params.theta_left != Params::unset || params.theta_right != Params::unset ||
+                         params.spout_length != 0.0)) {
+    const char* name = params.theta_left != Params::unset    ? "theta-left"
+                       : params.theta_right != Params::unset ? "theta-right"
+                                                              : "spout-length";
+    ParamError err = error(name, find_parameter(name)->get(params));
+    err.range = "not with a geometry file (the file defines the walls)";
+    return err;
+  }
+  for (const double theta : {params.left_angle(), params.right_angle()}) {
+    const bool own = theta != params.theta;
+    const char* name = !own ? "theta" : theta == params.left_angle() ? "theta-left" : "theta-right";
+    const double rad = theta * std::numbers::pi / 180.0;
     const double y_bottom = 0.5 * params.gap * std::tan(rad) - params.radius / std::cos(rad);
     // The derived geometry must be finite (found by fuzz/fuzz_parse): a gap near the largest
     // double overflows y_b.
@@ -140,12 +173,13 @@ std::optional<ParamError> validate(const Params& params) {
       err.range += " with (gap/2) tan(theta) finite";
       return err;
     }
+    if (params.profile) break;  // the profile's own checks (validate_profile)
     // The release line must lie above the vertex, where the centre lines meet (this fails only
     // for a wide particle in a very steep closed funnel, or a low release line) ...
     if (!(params.release_height + y_bottom > 0.0)) {
-      ParamError err = error(params.release_height == 1.0 ? "theta" : "release-height",
-                             params.release_height == 1.0 ? params.theta : params.release_height);
-      err.range = std::string(err.name == "theta" ? "0 < theta < 90 (degrees)" : "release-height > 0") +
+      const bool blame_angle = params.release_height == 1.0;
+      ParamError err = error(blame_angle ? name : "release-height", blame_angle ? theta : params.release_height);
+      err.range = std::string(blame_angle ? "0 < " + std::string(name) + " < 90 (degrees)" : "release-height > 0") +
                   " with the release line above the funnel's vertex: release-height + (gap/2) tan(theta) - "
                   "radius/cos(theta) > 0";
       return err;
@@ -161,7 +195,7 @@ std::optional<ParamError> validate(const Params& params) {
     // A subnormal theta (below ~1e-306 degrees) overflows the release line's half-width
     // L = y_0 / tan(theta), which made every output NaN (found by fuzz/fuzz_parse).
     if (!std::isfinite((params.release_height + y_bottom) / std::tan(rad))) {
-      ParamError err = error("theta", params.theta);
+      ParamError err = error(name, theta);
       err.range = "0 < theta < 90 (degrees) with a finite half-width (H0 + y_b)/tan(theta) of the release line";
       return err;
     }
@@ -177,6 +211,7 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(std::fabs(params.release_spin) <= 1e8)) return error("release-spin", params.release_spin);
   if (!(params.p_c > 0.0 && std::isfinite(params.p_c))) return error("p-c", params.p_c);
   if (!(params.eps_rest > 0.0 && std::isfinite(params.eps_rest))) return error("eps-rest", params.eps_rest);
+  if (params.profile) return validate_profile(*params.profile, params);
   return std::nullopt;
 }
 

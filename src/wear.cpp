@@ -7,11 +7,32 @@
 
 namespace funnel {
 
-Wear Wear::make(const Geometry& g, int bins) {
+namespace {
+
+/// Length of a wall's surface from its lower end up to the height y (beyond its top vertex
+/// along the top segment).
+double surface_length_to(const Side& side, double y) {
+  double s = 0.0;
+  for (std::size_t k = 0; k < side.faces.size(); ++k) {
+    const Face& f = side.faces[k];
+    const Vec2 lower = side.corners[k].point;
+    const bool top = k + 1 == side.faces.size();
+    const double upper_y = top ? y : side.corners[k + 1].point.y;
+    if (y <= upper_y || top) return s + (f.sin_a > 0.0 ? (y - lower.y) / f.sin_a : 0.0);
+    const Vec2 upper = side.corners[k + 1].point;
+    s += std::hypot(upper.x - lower.x, upper.y - lower.y);
+  }
+  return s;
+}
+
+}  // namespace
+
+Wear Wear::make(const Funnel& f, int bins) {
   Wear w;
   w.bins = bins;
   if (bins <= 0) return w;
-  w.bin_width = (g.y_release - g.y_bottom) / g.sin_t / bins;
+  for (int i = 0; i < 2; ++i) w.widths[i] = surface_length_to(f.sides[i], f.y_release) / bins;
+  w.bin_width = w.widths[0];
   for (WallWear& ww : w.walls) {
     ww.collisions.assign(static_cast<std::size_t>(bins), 0.0);
     ww.normal_impulse.assign(static_cast<std::size_t>(bins), 0.0);
@@ -22,8 +43,8 @@ Wear Wear::make(const Geometry& g, int bins) {
 
 namespace {
 
-std::size_t bin_of(const Wear& w, double s) {
-  const double k = std::floor(s / w.bin_width);
+std::size_t bin_of(const Wear& w, double width, double s) {
+  const double k = std::floor(s / width);
   if (!(k > 0.0)) return 0;
   return static_cast<std::size_t>(std::min(k, static_cast<double>(w.bins - 1)));
 }
@@ -33,7 +54,7 @@ std::size_t bin_of(const Wear& w, double s) {
 void Wear::add_collision(Wall wall, double s, double j_n, double j) {
   if (bins <= 0) return;
   WallWear& ww = (*this)[wall];
-  const std::size_t k = bin_of(*this, s);
+  const std::size_t k = bin_of(*this, widths[wall == Wall::Left ? 0 : 1], s);
   ww.collisions[k] += 1.0;
   ww.normal_impulse[k] += j_n;
   ww.impulse[k] += j;
@@ -47,13 +68,14 @@ void Wear::add_edge(Wall wall, double j_n, double j, bool count) {
   ww.edge_impulse += j;
 }
 
-void Wear::add_face_phase(Wall wall, const FacePhase& ph, double cos_theta) {
+void Wear::add_face_phase(Wall wall, const FacePhase& ph, double cos_theta, double offset) {
   if (bins <= 0 || !(ph.duration > 0.0)) return;
   WallWear& ww = (*this)[wall];
+  const double bin_width = widths[wall == Wall::Left ? 0 : 1];
   const double total = std::hypot(cos_theta, ph.force);
   // Distance up the face: s(t) = start - speed t - accel t^2 / 2. Split at its turning point
   // (if any) into monotone pieces; in each, the time between crossings of the bin boundaries.
-  auto s_at = [&](double t) { return ph.start - (ph.speed * t + 0.5 * ph.accel * t * t); };
+  auto s_at = [&](double t) { return offset + ph.start - (ph.speed * t + 0.5 * ph.accel * t * t); };
   double cuts[3] = {0.0, ph.duration, ph.duration};
   int n_cuts = 2;
   if (ph.accel != 0.0) {
@@ -67,8 +89,8 @@ void Wear::add_face_phase(Wall wall, const FacePhase& ph, double cos_theta) {
     double t0 = cuts[piece];
     const double t1 = cuts[piece + 1];
     const double s1 = s_at(t1);
-    std::size_t k = bin_of(*this, s_at(t0));
-    const std::size_t k_end = bin_of(*this, s1);
+    std::size_t k = bin_of(*this, bin_width, s_at(t0));
+    const std::size_t k_end = bin_of(*this, bin_width, s1);
     // Walk bin by bin from k towards k_end; the boundary between is crossed where s(t) = b.
     while (k != k_end) {
       const bool up = k_end > k;
@@ -125,6 +147,7 @@ void Wear::scale(double f) {
 Wear Wear::mirrored() const {
   Wear m = *this;
   std::swap(m.walls[0], m.walls[1]);
+  std::swap(m.widths[0], m.widths[1]);
   return m;
 }
 

@@ -15,6 +15,7 @@ using test::near;
 struct Incline {
   Params params;
   Geometry g;
+  Funnel f;
   Material m;
 };
 
@@ -25,6 +26,7 @@ Incline incline(double theta, double mu, double kappa = 0.4) {
   s.params.mu = mu;
   s.params.inertia = kappa;
   s.g = make_geometry(s.params);
+  s.f = make_funnel(s.params);
   s.m = material(s.params);
   return s;
 }
@@ -42,7 +44,7 @@ TEST(Contact, RollingFromRestMatchesTheClosedForm) {
   // Rolling without slipping down an incline: acceleration g sin(theta) / (1 + kappa).
   const Incline s = incline(30.0, 1.0);
   const double y0 = 0.5;
-  const ContactResult r = slide_to_end(on_left_face(s.g, y0, 0.0, 0.0), Wall::Left, s.g, s.m);
+  const ContactResult r = slide_on_face(on_left_face(s.g, y0, 0.0, 0.0), s.f.sides[0].faces[0], -1.0, s.m);
   const double length = (y0 - s.g.y_face_end) / s.g.sin_t;
   const double accel = s.g.sin_t / 1.4;
   EXPECT_EQ(r.first_regime, Regime::Rolling);
@@ -59,7 +61,7 @@ TEST(Contact, SteepFaceSlidesWithKineticFriction) {
   // tan(theta) > mu (1 + kappa)/kappa: it never rolls; acceleration g (sin - mu cos).
   const Incline s = incline(80.0, 0.1);
   const double y0 = 0.8;
-  const ContactResult r = slide_to_end(on_left_face(s.g, y0, 0.0, 0.0), Wall::Left, s.g, s.m);
+  const ContactResult r = slide_on_face(on_left_face(s.g, y0, 0.0, 0.0), s.f.sides[0].faces[0], -1.0, s.m);
   const double length = (y0 - s.g.y_face_end) / s.g.sin_t;
   const double accel = s.g.sin_t - 0.1 * s.g.cos_t;
   EXPECT_EQ(r.last_regime, Regime::Sliding);
@@ -75,7 +77,7 @@ TEST(Contact, SlipDecaysThenRollsAndEnergyBalances) {
   const Incline s = incline(40.0, 0.8);
   const double y0 = 0.6;
   const State start = on_left_face(s.g, y0, 0.2, 50.0);  // s = 0.2 + 0.5 > 0
-  const ContactResult r = slide_to_end(start, Wall::Left, s.g, s.m);
+  const ContactResult r = slide_on_face(start, s.f.sides[0].faces[0], -1.0, s.m);
   EXPECT_EQ(r.first_regime, Regime::Sliding);
   EXPECT_EQ(r.last_regime, Regime::Rolling);
   const double e_start = energy(start, s.m.kappa, s.m.radius);
@@ -89,9 +91,9 @@ TEST(Contact, BackspinCanDriveTheParticleUpTheFaceFirst) {
   // Strong back-spin and mu > tan(theta): the friction force points up the slope at first.
   const Incline s = incline(20.0, 1.0);
   const State start = on_left_face(s.g, 0.3, 0.0, -200.0);  // s = -2 < 0: friction pushes down
-  const ContactResult down = slide_to_end(start, Wall::Left, s.g, s.m);
+  const ContactResult down = slide_on_face(start, s.f.sides[0].faces[0], -1.0, s.m);
   const State back = on_left_face(s.g, 0.3, 0.0, 200.0);    // s = +2: friction pushes up
-  const ContactResult up = slide_to_end(back, Wall::Left, s.g, s.m);
+  const ContactResult up = slide_on_face(back, s.f.sides[0].faces[0], -1.0, s.m);
   EXPECT_GT(up.duration, down.duration);
   for (const auto& [st, r] : {std::pair{start, down}, std::pair{back, up}}) {
     EXPECT_TRUE(near(energy(st, s.m.kappa, s.m.radius) - energy(r.end, s.m.kappa, s.m.radius), r.energy_lost, 1e-12));
@@ -105,8 +107,8 @@ TEST(Contact, RightFaceMirrorsLeftFace) {
   right.r.x = -left.r.x;
   right.v.x = -left.v.x;
   right.omega = -left.omega;
-  const ContactResult rl = slide_to_end(left, Wall::Left, s.g, s.m);
-  const ContactResult rr = slide_to_end(right, Wall::Right, s.g, s.m);
+  const ContactResult rl = slide_on_face(left, s.f.sides[0].faces[0], -1.0, s.m);
+  const ContactResult rr = slide_on_face(right, s.f.sides[1].faces[0], 1.0, s.m);
   EXPECT_EQ(rr.duration, rl.duration);
   EXPECT_EQ(rr.end.v.x, -rl.end.v.x);
   EXPECT_EQ(rr.end.v.y, rl.end.v.y);

@@ -36,6 +36,7 @@ TEST(Corners, NoFreeFlightEntersAWallOrACornerOverWholeEnsembles) {
       for (const double beta0 : {0.0, 0.31, -0.31}) {
         const Params p = params_with(theta, e, 1.0, beta0);
         const Geometry g = make_geometry(p);
+  const Funnel fn = make_funnel(p);
         const std::int64_t n = 4000;
         std::vector<FlightAudit> audits(static_cast<std::size_t>(n));
         std::vector<std::int64_t> contacts(static_cast<std::size_t>(n));
@@ -44,7 +45,7 @@ TEST(Corners, NoFreeFlightEntersAWallOrACornerOverWholeEnsembles) {
           const double f = release_fraction(ReleaseDist::Line, k, n);
           EventLog log;
           const Trajectory t = simulate_release(p, g, f, &log);
-          audits[static_cast<std::size_t>(k)] = audit_flights(g, release_state(p, g, f), log.events);
+          audits[static_cast<std::size_t>(k)] = audit_flights(fn, release_state(p, g, f), log.events);
           contacts[static_cast<std::size_t>(k)] = t.edge_contacts;
         }
         FlightAudit total;
@@ -69,6 +70,7 @@ TEST(Corners, TheAuditFindsAFlightThroughACorner) {
   // bends into the edge circle, is caught.
   const Params p = params_with(30.0, 0.5, 1.0, 0.0);
   const Geometry g = make_geometry(p);
+  const Funnel fn = make_funnel(p);
   State s;
   s.r = {-g.x_face_end, g.y_face_end};
   s.v = 0.05 * Vec2{g.cos_t, -g.sin_t};
@@ -78,7 +80,7 @@ TEST(Corners, TheAuditFindsAFlightThroughACorner) {
   exit.time = 0.2;
   exit.position = advance(s, 0.2).r;
   exit.velocity_after = advance(s, 0.2).v;
-  const FlightAudit a = audit_flights(g, s, {exit});
+  const FlightAudit a = audit_flights(fn, s, {exit});
   EXPECT_EQ(a.edge_overlaps, 1);
   EXPECT_LT(a.min_edge_distance, 0.99);
 }
@@ -87,6 +89,7 @@ TEST(Corners, EdgeContactsAreLoggedTimedAndBooked) {
   // theta = 10, e = 0.1: releases that end by rolling over an edge.
   const Params p = params_with(10.0, 0.1, 1.0, 0.0);
   const Geometry g = make_geometry(p);
+  const Funnel fn = make_funnel(p);
   int found = 0;
   for (std::int64_t k = 1300; k < 1400 && found < 5; ++k) {
     const double f = release_fraction(ReleaseDist::Line, k, 4000);
@@ -132,6 +135,7 @@ TEST(ExitState, EnergyAtTheExitBalancesTheLoss) {
       EnsembleOptions o{300, ReleaseDist::Line, 0, true};
       const EnsembleResult r = run_ensemble(p, o);
       const Geometry g = make_geometry(p);
+  const Funnel fn = make_funnel(p);
       for (const Sample& s : r.per_sample) {
         const Trajectory& t = s.trajectory;
         ASSERT_EQ(t.status, Status::Exited);
@@ -158,6 +162,7 @@ TEST(ExitState, AStraightThrowThroughTheGapMatchesTheClosedForm) {
       p.release_height = h0;
       p.release_v = -v0;
       const Geometry g = make_geometry(p);
+  const Funnel fn = make_funnel(p);
       const Trajectory t = simulate_release(p, g, 0.0);
       ASSERT_EQ(t.status, Status::Exited);
       EXPECT_EQ(t.collisions, 0);
@@ -179,6 +184,7 @@ TEST(Release, AnUpwardThrowComesBackAndNeverLeavesThroughTheTop) {
     p.release_v = 4.0;
     p.release_spin = -30.0;
     const Geometry g = make_geometry(p);
+  const Funnel fn = make_funnel(p);
     EventLog log;
     const Trajectory t = simulate_release(p, g, 0.4, &log);
     EXPECT_EQ(t.status, Status::Exited) << u0;
@@ -187,7 +193,7 @@ TEST(Release, AnUpwardThrowComesBackAndNeverLeavesThroughTheTop) {
     if (u0 != 0.0) {
       EXPECT_GT(highest, g.y_release);
     }
-    EXPECT_TRUE(audit_flights(g, release_state(p, g, 0.4), log.events).clean()) << u0;
+    EXPECT_TRUE(audit_flights(fn, release_state(p, g, 0.4), log.events).clean()) << u0;
     EXPECT_TRUE(near(t.energy_loss_events, t.energy_loss, 1e-9, 1e-14));
   }
 }
@@ -197,8 +203,9 @@ TEST(Wear, BinsSumToTheTrajectoryTotals) {
     for (const double e : {0.2, 0.99}) {
       const Params p = params_with(theta, e, 1.0, 0.0);
       const Geometry g = make_geometry(p);
+  const Funnel fn = make_funnel(p);
       for (const double f : {-0.83, -0.2, 0.41}) {
-        Wear w = Wear::make(g, 17);
+        Wear w = Wear::make(fn, 17);
         const Trajectory t = simulate_release(p, g, f, nullptr, &w);
         double collisions = 0, normal = 0, total = 0;
         for (const WallWear& ww : w.walls) {
@@ -229,7 +236,8 @@ TEST(Wear, ASlideSpreadsItsImpulseOverTheBinsItCrosses) {
   // contact's normal impulse cos(theta) dt lands in every bin below the collapse.
   const Params p = params_with(12.0, 0.2, 1.0, 0.0);
   const Geometry g = make_geometry(p);
-  Wear w = Wear::make(g, 10);
+  const Funnel fn = make_funnel(p);
+  Wear w = Wear::make(fn, 10);
   EventLog log;
   simulate_release(p, g, -0.9, &log, &w);
   double start_height = -1.0;

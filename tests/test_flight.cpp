@@ -64,8 +64,8 @@ TEST(Flight, SameFaceReturnTimeIsTwoPOverCosTheta) {
   const double p = 0.37;
   s.v = p * n + 0.1 * Vec2{n.y, -n.x};
   FlightStart start;
-  start.on_face = Wall::Left;
-  EXPECT_EQ(face_time(g, s, Wall::Left, start), 2.0 * p / g.cos_t);
+  start.on_face = WallPart{Wall::Left, 0};
+  EXPECT_EQ(face_time(make_funnel(params_at(50.0)), s, {Wall::Left, 0}, start), 2.0 * p / g.cos_t);
 }
 
 TEST(Flight, EventTimesMatchBruteForceSearch) {
@@ -77,6 +77,7 @@ TEST(Flight, EventTimesMatchBruteForceSearch) {
   for (const double theta : {20.0, 45.0, 70.0}) {
     const Params p = params_at(theta, 0.1, 0.03);
     const Geometry g = make_geometry(p);
+    const Funnel fn = make_funnel(p);
     for (int i = 0; i < 150; ++i) {
       State s;
       // Start low in the funnel so that edges are often hit.
@@ -87,10 +88,10 @@ TEST(Flight, EventTimesMatchBruteForceSearch) {
       if (face_distance(g, Wall::Left, s.r) < 0 && s.r.y > g.y_face_end) continue;
       if (face_distance(g, Wall::Right, s.r) < 0 && s.r.y > g.y_face_end) continue;
       s.v = {2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0};
-      const NextEvent ev = next_event(g, s, FlightStart{});
+      const NextEvent ev = next_event(fn, s, FlightStart{});
       ASSERT_NE(ev.dt, never);
       // Brute force over [0, exit] on the clearance function.
-      const double t_exit = exit_time(g, s);
+      const double t_exit = exit_time(fn, s);
       double t_hit = never;
       const int steps = 20000;
       for (int k = 1; k <= steps && t_hit == never; ++k) {
@@ -127,9 +128,9 @@ TEST(Flight, LeavingAContactAtTheFaceEndFindsNoZeroTimeEvent) {
     s.r = {-g.x_face_end, g.y_face_end};
     s.v = speed * Vec2{g.cos_t, -g.sin_t};  // down the left face
     FlightStart start;
-    start.skip_face = Wall::Left;
-    start.skip_edge = Wall::Left;
-    const NextEvent ev = next_event(g, s, start);
+    start.skip_face = WallPart{Wall::Left, 0};
+    start.skip_edge = WallPart{Wall::Left, 0};
+    const NextEvent ev = next_event(make_funnel(params_at(60.0)), s, start);
     EXPECT_GT(ev.dt, 1e-6) << speed;
   }
 }

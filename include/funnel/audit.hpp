@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "funnel/engine.hpp"
-#include "funnel/geometry.hpp"
+#include "funnel/funnel.hpp"
 
 namespace funnel {
 
@@ -33,6 +33,6 @@ inline constexpr double audit_tolerance = 1e-9;
 /// Rebuilds every free flight of a trajectory that started in `initial` from its event log and
 /// checks it against the walls, the edges and the exit; the sustained contacts (between
 /// contact_start/contact_end and edge_contact_start/edge_contact_end) are not flights.
-FlightAudit audit_flights(const Geometry& g, const State& initial, const std::vector<Event>& events);
+FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vector<Event>& events);
 
 }  // namespace funnel

@@ -1,14 +1,14 @@
 // Sustained sliding/rolling contact with a wall face, solved in closed form (docs/model.md §5).
 #pragma once
 
-#include "funnel/geometry.hpp"
+#include "funnel/funnel.hpp"
 #include "funnel/walton.hpp"
 
 namespace funnel {
 
 /// One phase of constant acceleration of a sustained face contact, measured along the face.
 struct FacePhase {
-  double start = 0.0;     ///< centre's distance up the face from the face's end (C*, or the vertex) at the start
+  double start = 0.0;     ///< centre's distance up the face from the lower end of its region at the start
   double speed = 0.0;     ///< down-slope speed at the start
   double accel = 0.0;     ///< down-slope acceleration
   double force = 0.0;     ///< friction force along the down-slope direction (per unit mass)
@@ -17,11 +17,12 @@ struct FacePhase {
 
 /// Outcome of a sustained contact that starts with zero normal velocity on a face.
 struct ContactResult {
-  State end;                  ///< state at the end: at C*, or at the vertex of a closed funnel
+  State end;                  ///< state at the end: at the lower or the upper end of the face's region
+  bool at_high_end = false;   ///< it ended at the upper end (moving up), else at the lower end
   double duration = 0.0;      ///< time in contact
   double impulse = 0.0;       ///< integral of sqrt(N^2 + F^2) dt
-  double normal_impulse = 0.0;///< integral of N dt, N = cos(theta)
-  double tangential_impulse = 0.0;  ///< integral of the friction force along the wall tangent t
+  double normal_impulse = 0.0;///< integral of N dt, N = cos(angle of the face)
+  double tangential_impulse = 0.0;  ///< integral of the friction force along the wall tangent t = (n_y, -n_x)
   double energy_lost = 0.0;   ///< work done against friction, >= 0
   Regime first_regime = Regime::Sliding;  ///< regime at the start (Sliding or Rolling)
   Regime last_regime = Regime::Sliding;   ///< regime at the end
@@ -29,11 +30,12 @@ struct ContactResult {
   int phase_count = 0;        ///< number of phases used (1 or 2)
 };
 
-/// Moves a particle in sustained contact with `wall` (normal velocity already zero) down to
-/// the end of the face, through at most two phases of constant acceleration: sliding until the
-/// slip vanishes, then rolling if tan(theta) <= mu (1 + kappa)/kappa, else sliding again. A
-/// particle may start at the face's end moving up the face (handed over by its edge): it goes
-/// up, turns and comes back down to the end.
-ContactResult slide_to_end(const State& start, Wall wall, const Geometry& g, const Material& m);
+/// Moves a particle in sustained contact with a face of the wall with mirror sign ws (normal
+/// velocity already zero) to an end of the face's region, through at most two phases of
+/// constant acceleration: sliding until the slip vanishes, then rolling if
+/// tan(angle) <= mu (1 + kappa)/kappa, else sliding again. Down the face it ends at the lower
+/// end; a particle moving up (handed over by an edge, or with back-spin) may reach the upper end
+/// of a bounded region first, or turn and come back down.
+ContactResult slide_on_face(const State& start, const Face& face, double ws, const Material& m);
 
 }  // namespace funnel

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "funnel/flight.hpp"
+#include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/params.hpp"
 #include "funnel/walton.hpp"
@@ -80,16 +81,25 @@ struct Trajectory {
 
 struct Wear;
 
-/// Runs one trajectory from any admissible initial state (units H = g = m = 1). With `wear`
-/// (made by Wear::make for this geometry), its collisions and contacts are also binned there.
+/// Runs one trajectory in the funnel `f` (made by make_funnel(params)) from any admissible
+/// initial state (units H = g = m = 1). With `wear` (made by Wear::make for this funnel), its
+/// collisions and contacts are also binned there.
+Trajectory simulate(const Params& params, const Funnel& f, const State& initial, EventSink* sink = nullptr,
+                    Wear* wear = nullptr);
+
+/// The same, building the funnel from the parameters (the Geometry argument is not used; kept for
+/// callers of the paper's V).
 Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink = nullptr,
                     Wear* wear = nullptr);
 
-/// The release state at x0 = fraction * L on the release line (fraction in (-1, 1)), with the
+/// The release state at X = fraction on the release line (fraction in (-1, 1)), with the
 /// parameters' release velocity and spin.
+State release_state(const Params& params, const Funnel& f, double fraction);
 State release_state(const Params& params, const Geometry& g, double fraction);
 
-/// Runs one trajectory from release_state(params, g, fraction).
+/// Runs one trajectory from release_state(params, f, fraction).
+Trajectory simulate_release(const Params& params, const Funnel& f, double fraction, EventSink* sink = nullptr,
+                            Wear* wear = nullptr);
 Trajectory simulate_release(const Params& params, const Geometry& g, double fraction, EventSink* sink = nullptr,
                             Wear* wear = nullptr);
 

@@ -59,13 +59,16 @@ double sample_fraction(const EnsembleOptions& options, std::int64_t k);
 /// The release state of sample k: its position from the distribution, the parameters' release
 /// velocity and spin, plus a random velocity of standard deviation velocity_sd per component.
 /// Random numbers are keyed by (seed, k): the same for any thread count or split of the work.
+State sample_release(const Params& params, const Funnel& f, const EnsembleOptions& options, std::int64_t k);
+/// The same, building the funnel from the parameters.
 State sample_release(const Params& params, const Geometry& g, const EnsembleOptions& options, std::int64_t k);
 
 /// True when the releases draw random numbers (uniform or gaussian positions, random velocities).
 bool is_random(const EnsembleOptions& options);
 
-/// True when the ensemble is its own mirror image (x -> -x): line releases at zero horizontal
-/// velocity and spin without random velocities. Only then is half of it simulated.
+/// True when the ensemble is its own mirror image (x -> -x): a mirror-symmetric funnel, line
+/// releases at zero horizontal velocity and spin, no random velocities. Only then is half of it
+/// simulated.
 bool mirror_symmetric(const Params& params, const EnsembleOptions& options);
 
 /// Per-sample outputs of an ensemble, kept only on request.

@@ -2,12 +2,15 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 
 namespace funnel {
+
+struct ProfileSpec;
 
 /// Physical and numerical parameters of one funnel run. Units: H = g = m = 1.
 struct Params {
@@ -24,8 +27,22 @@ struct Params {
   double release_u = 0.0;       ///< initial horizontal velocity, units sqrt(gH), finite
   double release_v = 0.0;       ///< initial vertical velocity (up positive), units sqrt(gH), finite
   double release_spin = 0.0;    ///< initial spin, counter-clockwise, units sqrt(g/H), finite
+  double theta_left = unset;  ///< angle of the left wall, degrees (unset: theta), 0 < theta-left < 90
+  double theta_right = unset; ///< angle of the right wall, degrees (unset: theta), 0 < theta-right < 90
+  double spout_length = 0.0;  ///< vertical walls of this length below the edges, units of H, >= 0
   double p_c = 1e-9;          ///< collapse threshold on the normal speed after a collision, > 0
   double eps_rest = 1e-12;    ///< closed funnel: energy above the vertex below which the particle rests, > 0
+  /// A wall profile (docs/model.md §2b) replacing the V of theta, theta-left/right, gap and
+  /// spout-length; null for the V.
+  std::shared_ptr<const ProfileSpec> profile;
+
+  /// Marks theta-left/theta-right as "the same as theta".
+  static constexpr double unset = -1.0;
+  /// The left and right wall angles in degrees (theta where unset).
+  double left_angle() const { return theta_left == unset ? theta : theta_left; }
+  double right_angle() const { return theta_right == unset ? theta : theta_right; }
+  /// True for the paper's symmetric V (no per-side angle, no spout, no profile).
+  bool plain_v() const { return left_angle() == theta && right_angle() == theta && spout_length == 0.0 && !profile; }
 };
 
 /// The documented defaults (docs/model.md §1).

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "funnel/contact.hpp"
-#include "funnel/geometry.hpp"
+#include "funnel/funnel.hpp"
 
 namespace funnel {
 
@@ -20,17 +20,18 @@ struct WallWear {
   double edge_impulse = 0.0;           ///< total impulse on the edge (collisions + edge contacts)
 };
 
-/// Wear of both walls in `bins` equal bins of distance s along the wall's surface, measured
-/// from the lower end of the face (the edge point; the lowest contact point in a closed funnel)
-/// up to the release height: bin_width = H0 / sin(theta) / bins. Contacts above the release
-/// height (possible only for upward releases) are counted in the last bin.
+/// Wear of both walls in `bins` equal bins of distance s along each wall's surface, measured
+/// from its lower end (the edge point) up to the release height (for the V: bin_width =
+/// H0 / sin(theta) / bins). Contacts above the release height (possible only for upward
+/// releases) are counted in the last bin.
 struct Wear {
   int bins = 0;              ///< number of bins per wall (0: wear is not recorded)
-  double bin_width = 0.0;    ///< units of H
+  double bin_width = 0.0;    ///< units of H (the left wall's; equal for a symmetric funnel)
   std::array<WallWear, 2> walls;  ///< indexed by wall: 0 left, 1 right
+  std::array<double, 2> widths{};  ///< bin width of each wall, units of H
 
   /// Empty wear record for a funnel.
-  static Wear make(const Geometry& g, int bins);
+  static Wear make(const Funnel& f, int bins);
 
   WallWear& operator[](Wall w) { return walls[w == Wall::Left ? 0 : 1]; }
   const WallWear& operator[](Wall w) const { return walls[w == Wall::Left ? 0 : 1]; }
@@ -41,7 +42,7 @@ struct Wear {
   void add_edge(Wall wall, double j_n, double j, bool count);
   /// A phase of sustained face contact with constant acceleration: its impulses are spread over
   /// the bins in proportion to the time spent in each (normal force cos(theta), friction force).
-  void add_face_phase(Wall wall, const FacePhase& phase, double cos_theta);
+  void add_face_phase(Wall wall, const FacePhase& phase, double cos_theta, double offset);
 
   /// Adds another record of the same binning.
   void merge(const Wear& other);

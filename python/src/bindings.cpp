@@ -204,7 +204,7 @@ py::dict simulate(const std::map<std::string, double>& model, double release, bo
   funnel::EnsembleOptions check;
   check.wear_bins = wear_bins;
   if (const auto err = funnel::validate(check)) throw py::value_error(err->message());
-  const funnel::Geometry g = funnel::make_geometry(params);
+  const funnel::Funnel g = funnel::make_funnel(params);
   funnel::EventLog log;
   funnel::Wear wear = funnel::Wear::make(g, wear_bins);
   funnel::Trajectory t;
@@ -215,7 +215,7 @@ py::dict simulate(const std::map<std::string, double>& model, double release, bo
   py::dict d;
   d["params"] = params_dict(params);
   d["release"] = release;
-  d["x0"] = release * g.half_width;
+  d["x0"] = funnel::release_point(g, release).x;
   d["y0"] = g.y_release;
   d["u0"] = params.release_u;
   d["v0"] = params.release_v;

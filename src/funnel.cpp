@@ -1,0 +1,192 @@
+// Building the runtime funnel from the parameters: the paper's V (bit for bit the numbers of
+// make_geometry), its asymmetric and spouted variants, and wall profiles (docs/model.md §2b).
+#include "funnel/funnel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+namespace funnel {
+
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+/// One straight segment of a wall, bottom to top, as the builder takes it.
+struct SegmentIn {
+  Vec2 lower;           ///< surface vertex at the segment's lower end
+  double sin_a, cos_a;  ///< angle to the horizontal (0..90 degrees)
+  double length;        ///< surface length; infinite for the top segment
+  std::optional<Vec2> ref;  ///< a point of the centre line, if the caller knows one exactly
+};
+
+Vec2 normal_of(double ws, double sin_a, double cos_a) { return {-ws * sin_a, cos_a}; }
+
+/// Where two centre lines n1.(r - p1) = 0 and n2.(r - p2) = 0 meet.
+Vec2 meet(Vec2 n1, Vec2 p1, Vec2 n2, Vec2 p2) {
+  const double c1 = dot(n1, p1), c2 = dot(n2, p2);
+  const double det = n1.x * n2.y - n1.y * n2.x;
+  return {(c1 * n2.y - c2 * n1.y) / det, (n1.x * c2 - n2.x * c1) / det};
+}
+
+/// The faces and corners of one wall from its segments (bottom to top). `bottom_corner` marks the
+/// lower end as the shared bottom of a closed funnel (its face's region then starts at `bottom`).
+Side build_side(const std::vector<SegmentIn>& segs, double ws, double a, bool bottom_corner, Vec2 bottom) {
+  Side side;
+  side.ws = ws;
+  const std::size_t n = segs.size();
+  side.faces.resize(n);
+  side.corners.resize(n);
+  double surface = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    Face& f = side.faces[k];
+    const SegmentIn& s = segs[k];
+    f.sin_a = s.sin_a;
+    f.cos_a = s.cos_a;
+    f.n = normal_of(ws, s.sin_a, s.cos_a);
+    f.up = {ws * s.cos_a, s.sin_a};
+    f.down = {-ws * s.cos_a, -s.sin_a};
+    f.ref = s.ref ? *s.ref : s.lower + a * f.n;
+    f.length = inf;
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    Corner& c = side.corners[k];
+    c.point = segs[k].lower;
+    Face& above = side.faces[k];
+    if (k == 0) {
+      c.outlet = true;
+      c.bottom = bottom_corner;
+      c.convex = !bottom_corner;
+      above.low_convex = !bottom_corner;
+      above.low = bottom_corner ? bottom : c.point + a * above.n;
+    } else {
+      Face& below = side.faces[k - 1];
+      // Convex when the segment below is steeper: the wall turns away from the particle.
+      c.convex = below.sin_a * above.cos_a - below.cos_a * above.sin_a > 0.0;
+      if (c.convex) {
+        above.low = c.point + a * above.n;
+        below.high = c.point + a * below.n;
+      } else {
+        above.low = meet(below.n, below.ref, above.n, above.ref);
+        below.high = above.low;
+      }
+      above.low_convex = c.convex;
+      below.high_convex = c.convex;
+      below.length = dot(below.up, below.high - below.low);
+    }
+    if (c.convex) {
+      // Arc of contact normals in the wall's own left-facing frame: from the normal of the face
+      // below (the wall's underside at the lower end) to the normal of the face above.
+      const double top = std::atan2(above.cos_a, above.sin_a);
+      const Face* below = k == 0 ? nullptr : &side.faces[k - 1];
+      const double low = below ? std::atan2(below->cos_a, below->sin_a) : top - std::numbers::pi;
+      c.arc = {Vec2{ws < 0.0 ? c.point.x : 0.0 - c.point.x, c.point.y}, low, top};
+      c.top = above.low.y;
+    }
+    above.surface_offset = surface + dot(above.up, above.low - c.point);
+    surface += segs[k].length;
+  }
+  return side;
+}
+
+/// The segments of one wall of a V at angle theta (degrees), with an optional spout below.
+std::vector<SegmentIn> v_wall(double ws, double sin_t, double cos_t, double half_gap, double y_b, double c, double spout) {
+  std::vector<SegmentIn> segs;
+  const Vec2 edge{ws * half_gap, y_b};
+  if (spout > 0.0) segs.push_back({{ws * half_gap, y_b - spout}, 1.0, 0.0, spout, std::nullopt});
+  segs.push_back({edge, sin_t, cos_t, inf, Vec2{0.0, c}});
+  return segs;
+}
+
+/// The release line between the walls' centre lines at height y0, for a V of one or two angles.
+void v_release(Funnel& f, double y0, double tan_l, double tan_r, double c_l, double c_r) {
+  const double x_l = -(y0 - c_l) / tan_l;
+  const double x_r = (y0 - c_r) / tan_r;
+  f.y_release = y0;
+  f.x_release_mid = 0.5 * (x_l + x_r);
+  f.half_width = 0.5 * (x_r - x_l);
+}
+
+void finish(Funnel& f, const Params& params) {
+  f.radius = params.radius;
+  for (Side& s : f.sides) s.law = collision_constants(s.material);
+  f.skip_height = -inf;
+  for (const Side& s : f.sides) {
+    for (const Corner& c : s.corners) {
+      if (c.convex) f.skip_height = std::max(f.skip_height, c.top);
+    }
+  }
+  const Vec2 el = f.sides[0].corners[0].point, er = f.sides[1].corners[0].point;
+  f.closed = f.sides[0].corners[0].bottom;
+  f.horizontal_outlet = el.y == er.y;
+  f.y_exit = el.y;
+  f.exit_point = el;
+  const Vec2 d = er - el;
+  const double len = std::hypot(d.x, d.y);
+  f.exit_normal = len > 0.0 ? Vec2{-d.y / len, d.x / len} : Vec2{0.0, 1.0};
+}
+
+Funnel v_funnel(const Params& params) {
+  Funnel f;
+  f.source = "v";
+  const double a = params.radius;
+  const double half_gap = 0.5 * params.gap;
+  const bool closed = params.gap == 0.0;
+  if (params.left_angle() == params.right_angle()) {
+    // The paper's V (and its spouted variant): the numbers of make_geometry, bit for bit.
+    Params p = params;
+    p.theta = params.left_angle();
+    const Geometry g = make_geometry(p);
+    for (const int i : {0, 1}) {
+      const double ws = i == 0 ? -1.0 : 1.0;
+      f.sides[i] = build_side(v_wall(ws, g.sin_t, g.cos_t, g.half_gap, g.y_bottom, 0.0, params.spout_length), ws, a,
+                              closed, {0.0, 0.0});
+    }
+    f.y_bottom = g.y_bottom;
+    f.y_release = g.y_release;
+    f.half_width = g.half_width;
+    f.x_release_mid = 0.0;
+    f.symmetric = true;
+  } else {
+    double sn[2], cs[2], tn[2], yb[2];
+    for (const int i : {0, 1}) {
+      const double rad = (i == 0 ? params.left_angle() : params.right_angle()) * std::numbers::pi / 180.0;
+      sn[i] = std::sin(rad);
+      cs[i] = std::cos(rad);
+      tn[i] = std::tan(rad);
+      yb[i] = half_gap * tn[i] - a / cs[i];
+    }
+    // Both edges at one height, the mean of the two walls' own y_b; each centre line then
+    // crosses the axis at c = y_b - y_b(side) (0 for equal angles).
+    const double y_b = 0.5 * (yb[0] + yb[1]);
+    double c[2];
+    Vec2 bottom{0.0, 0.0};
+    for (const int i : {0, 1}) c[i] = y_b - yb[i];
+    if (closed) {
+      const Vec2 nl{sn[0], cs[0]}, nr{-sn[1], cs[1]};
+      bottom = meet(nl, {0.0, c[0]}, nr, {0.0, c[1]});
+    }
+    for (const int i : {0, 1}) {
+      const double ws = i == 0 ? -1.0 : 1.0;
+      f.sides[i] = build_side(v_wall(ws, sn[i], cs[i], half_gap, y_b, c[i], params.spout_length), ws, a, closed, bottom);
+    }
+    f.y_bottom = y_b;
+    v_release(f, y_b + params.release_height, tn[0], tn[1], c[0], c[1]);
+  }
+  for (Side& s : f.sides) s.material = material(params);
+  finish(f, params);
+  return f;
+}
+
+}  // namespace
+
+Funnel make_funnel(const Params& params) {
+  if (!params.profile) return v_funnel(params);
+  throw std::invalid_argument("profiles are not built yet");
+}
+
+std::optional<ParamError> validate_profile(const ProfileSpec&, const Params&) { return std::nullopt; }
+
+}  // namespace funnel
