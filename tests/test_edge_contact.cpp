@@ -200,5 +200,22 @@ TEST(EdgeContact, ExtremeFrictionStaysFiniteAndLosesNoMoreThanTheKineticEnergy) 
   }
 }
 
+TEST(EdgeContact, SlidingWhoseExponentialGrowsFindsItsEventsOnTheFastScale) {
+  // Slip against the motion with mu ~ 1e5 and a tiny sphere: the sliding solution's homogeneous
+  // part grows like exp(2 mu psi), so the take-off comes within ~1e-4 rad of the start, far
+  // inside the first of the uniform event samples (found by the fuzzer: NaN end state).
+  const Material m = material_of(94571.056560506157, 154.70094429778624, 3.5504010424486853e-06);
+  const Vec2 e{0.0, 0.0};
+  const double psi = 0.80711984520210622;
+  const State start = on_circle(e, m.radius, psi, 4.3746855775321603, 4.2634469547734364);
+  const EdgeContactResult r = edge_contact(start, {e, 2.9765223376390653 - pi, 2.9765223376390653}, m);
+  ASSERT_TRUE(std::isfinite(r.end.r.x) && std::isfinite(r.end.v.y) && std::isfinite(r.end.omega) &&
+              std::isfinite(r.duration));
+  EXPECT_EQ(r.exit, EdgeExit::TakeOff);
+  EXPECT_NEAR(std::hypot(r.end.r.x, r.end.r.y), m.radius, 1e-12 * m.radius);
+  EXPECT_NEAR(edge_normal_force(r.end, e, m.radius), 0.0, 1e-6 * dot(r.end.v, r.end.v) / m.radius);
+  EXPECT_GE(r.energy_lost, 0.0);
+}
+
 }  // namespace
 }  // namespace funnel
