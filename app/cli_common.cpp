@@ -13,6 +13,8 @@
 #include <fstream>
 #include <iostream>
 
+#include "geometry_file.hpp"
+
 namespace funnel::cli {
 
 namespace {
@@ -49,8 +51,21 @@ void add_model_options(CLI::App& app, ModelOptions& options, bool lists) {
   }
 }
 
-Params to_params(const ModelOptions& options) {
+void add_geometry_option(CLI::App& app, ModelOptions& options) {
+  app.add_option("--geometry", options.geometry,
+                 "the funnel's walls from a TOML file (vertex lists in units of H; see docs/cli.md, 'Geometry "
+                 "files') instead of the V of --theta/--gap")
+      ->type_name("FILE.toml");
+}
+
+Params base_params(const ModelOptions& options) {
   Params p = default_params();
+  if (!options.geometry.empty()) p.profile = read_geometry(options.geometry);
+  return p;
+}
+
+Params to_params(const ModelOptions& options) {
+  Params p = base_params(options);
   for (const auto& [name, text] : options.given) set_or_throw(p, name, parse_single(name, text), text);
   if (const auto err = validate(p)) throw UsageError(err->message());
   return p;

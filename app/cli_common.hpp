@@ -24,7 +24,14 @@ class UsageError : public std::runtime_error {
 /// The model options as given on the command line (text), keyed by parameter name.
 struct ModelOptions {
   std::map<std::string, std::string> given;  ///< only the options the user set
+  std::string geometry;                      ///< --geometry FILE.toml, empty for the V
 };
+
+/// Adds --geometry FILE.toml (a funnel of any 2D wall profile) to a command that simulates.
+void add_geometry_option(CLI::App& app, ModelOptions& options);
+
+/// The default parameters with the profile of --geometry, if given.
+Params base_params(const ModelOptions& options);
 
 /// Adds one option per model parameter of the library's table (--theta ... --release-spin).
 /// With `lists`, each also accepts a list "a,b,c" or a range "start:stop:step".

@@ -102,6 +102,7 @@ void add_closed_command(CLI::App& app, const std::string& command_line) {
   CLI::App* sub = app.add_subcommand(
       "closed", "Closed funnel (gap 0): does each release reach the period-2 orbit or rest? (Figs. 11, 12)");
   add_model_options(*sub, cmd->model, false);
+  add_geometry_option(*sub, cmd->model);
   sub->get_option("--e")->description("normal restitution; " + std::string(valid_range("e")) +
                                       " (default 1 here, as in the paper's Figs. 11-12; with e < 1 every release ends at rest)");
   sub->get_option("--gap")->description("gap between the walls' lower edges / H: 0 here, a closed funnel (default 0)");

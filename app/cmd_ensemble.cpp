@@ -102,6 +102,7 @@ void add_ensemble_command(CLI::App& app, const std::string& command_line) {
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand("ensemble", "Statistics of the observables over N release positions.");
   add_model_options(*sub, cmd->model, false);
+  add_geometry_option(*sub, cmd->model);
   add_ensemble_options(*sub, cmd->ens);
   sub->add_flag("--per-sample", cmd->per_sample,
                 "also output every trajectory (JSON key 'per_sample'; with csv, one row per sample instead of the summary)");

@@ -174,7 +174,7 @@ struct SweepCommand {
     const std::vector<Axis> axes = to_axes(merged);
     const EnsembleOptions options = to_ensemble_options(merged_ens);
     check_size(axes, options);
-    const std::vector<Params> points = expand_grid(default_params(), axes);
+    const std::vector<Params> points = expand_grid(base_params(merged), axes);
     validate_all(points);
     const OutputTarget target = resolve_output(out);
 
@@ -325,6 +325,7 @@ void add_sweep_command(CLI::App& app, const std::string& command_line) {
   CLI::App* sub = app.add_subcommand(
       "sweep", "Run one ensemble per point of a parameter grid (Cartesian product of lists/ranges) to CSV.");
   add_model_options(*sub, cmd->model, true);
+  add_geometry_option(*sub, cmd->model);
   add_ensemble_options(*sub, cmd->ens, true, false);
   sub->add_option("--config", cmd->config,
                   "TOML file with the grid: model parameters (number, array or \"start:stop:step\") at the top "

@@ -83,6 +83,7 @@ void add_trajectory_command(CLI::App& app, const std::string& command_line) {
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand("trajectory", "Simulate one trajectory released at x0 = X*L (at rest unless --release-u/-v/-spin say otherwise).");
   add_model_options(*sub, cmd->model, false);
+  add_geometry_option(*sub, cmd->model);
   sub->add_option("--release", cmd->release, "release position X = x0/L; -1 < X < 1")->required()->type_name("X");
   sub->add_flag("--events", cmd->events, "include the event log (JSON key 'events'; with csv, one row per event)");
   sub->add_option("--wear-bins", cmd->wear_bins,

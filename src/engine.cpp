@@ -108,11 +108,7 @@ class Run {
       }
       switch (ev.kind) {
         case EventKind::Exit:
-          if (f_.horizontal_outlet) {
-            state_.r.y = f_.y_exit;
-          } else {
-            state_.r = state_.r - dot(f_.exit_normal, state_.r - f_.exit_point) * f_.exit_normal;
-          }
+          state_.r.y = f_.y_exit;
           out_.exit_state = state_;
           log_simple(EventKind::Exit, std::nullopt);
           end(Status::Exited, time_);

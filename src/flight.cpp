@@ -87,17 +87,10 @@ double edge_time(const Funnel& f, const State& s, WallPart part, const FlightSta
 
 double exit_time(const Funnel& f, const State& s) {
   if (f.closed) return never;
-  if (f.horizontal_outlet) {
-    const double h = std::fmax(s.r.y - f.y_exit, 0.0);
-    const double v = s.v.y;
-    const double root = std::sqrt(v * v + 2.0 * h);
-    return v >= 0.0 ? v + root : 2.0 * h / (root - v);
-  }
-  // A slanted outlet: its signed distance h + q t - m_y t^2/2 falls to 0.
-  const double h = std::fmax(dot(f.exit_normal, s.r - f.exit_point), 0.0);
-  const double q = dot(f.exit_normal, s.v);
-  const double t = line_arrival_time(h, q, f.exit_normal.y);
-  return t;
+  const double h = std::fmax(s.r.y - f.y_exit, 0.0);
+  const double v = s.v.y;
+  const double root = std::sqrt(v * v + 2.0 * h);
+  return v >= 0.0 ? v + root : 2.0 * h / (root - v);
 }
 
 NextEvent next_event(const Funnel& f, const State& s, const FlightStart& start) {

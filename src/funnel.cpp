@@ -121,11 +121,7 @@ void finish(Funnel& f, const Params& params) {
   const Vec2 el = f.sides[0].corners[0].point, er = f.sides[1].corners[0].point;
   f.closed = f.sides[0].corners[0].bottom;
   f.horizontal_outlet = el.y == er.y;
-  f.y_exit = el.y;
-  f.exit_point = el;
-  const Vec2 d = er - el;
-  const double len = std::hypot(d.x, d.y);
-  f.exit_normal = len > 0.0 ? Vec2{-d.y / len, d.x / len} : Vec2{0.0, 1.0};
+  f.y_exit = std::min(el.y, er.y);
 }
 
 Funnel v_funnel(const Params& params) {
@@ -180,13 +176,90 @@ Funnel v_funnel(const Params& params) {
   return f;
 }
 
+/// The segments of one side of a profile, bottom to top, from its vertices (top to bottom).
+std::vector<SegmentIn> profile_wall(const std::vector<Vec2>& vertices) {
+  std::vector<SegmentIn> segs;
+  for (std::size_t k = vertices.size() - 1; k >= 1; --k) {
+    const Vec2 lower = vertices[k], upper = vertices[k - 1];
+    const Vec2 d = upper - lower;
+    const double len = std::hypot(d.x, d.y);
+    // Vertical and horizontal segments get exact 1 and 0.
+    const double sin_a = d.x == 0.0 ? 1.0 : d.y / len;
+    const double cos_a = d.y == 0.0 ? 1.0 : std::fabs(d.x) / len;
+    segs.push_back({lower, sin_a, cos_a, k == 1 ? inf : len, std::nullopt});
+  }
+  return segs;
+}
+
+/// Smallest ws * x of a centre touching the wall at height y: the inner boundary of the region
+/// the centre can reach, from the face centre lines and edge circles that exist at that height.
+double inner_x(const Side& side, double y, double a) {
+  double best = inf;
+  for (const Face& f : side.faces) {
+    const double top = f.length == inf ? inf : f.high.y;
+    if (f.sin_a == 0.0 || y < f.low.y || y > top) continue;
+    const double x = f.ref.x - f.n.y * (y - f.ref.y) / f.n.x;
+    best = std::min(best, side.ws * x);
+  }
+  for (const Corner& c : side.corners) {
+    const double dy = y - c.point.y;
+    if (!c.convex || std::fabs(dy) > a) continue;
+    best = std::min(best, side.ws * c.point.x - std::sqrt(a * a - dy * dy));
+  }
+  return best;
+}
+
+Funnel profile_funnel(const Params& params) {
+  const ProfileSpec& spec = *params.profile;
+  Funnel f;
+  f.source = spec.source.empty() ? "profile" : spec.source;
+  const double a = params.radius;
+  const Vec2 el = spec.sides[0].back(), er = spec.sides[1].back();
+  const bool closed = el.x == er.x && el.y == er.y;
+  std::array<std::vector<SegmentIn>, 2> segs{profile_wall(spec.sides[0]), profile_wall(spec.sides[1])};
+  Vec2 bottom{};
+  if (closed) {
+    Vec2 nrm[2], ref[2];
+    for (const int i : {0, 1}) {
+      const double ws = i == 0 ? -1.0 : 1.0;
+      nrm[i] = normal_of(ws, segs[i][0].sin_a, segs[i][0].cos_a);
+      ref[i] = segs[i][0].lower + a * nrm[i];
+    }
+    bottom = meet(nrm[0], ref[0], nrm[1], ref[1]);
+  }
+  const Material base = material(params);
+  for (const int i : {0, 1}) {
+    const double ws = i == 0 ? -1.0 : 1.0;
+    f.sides[i] = build_side(segs[i], ws, a, closed, bottom);
+    Material& m = f.sides[i].material;
+    m = base;
+    m.e = spec.e[i].value_or(base.e);
+    m.mu = spec.mu[i].value_or(base.mu);
+    m.beta0 = spec.beta0[i].value_or(base.beta0);
+  }
+  f.y_bottom = spec.bottom.value_or(std::max(el.y, er.y));
+  f.y_release = f.y_bottom + params.release_height;
+  const double x_l = -inner_x(f.sides[0], f.y_release, a);
+  const double x_r = inner_x(f.sides[1], f.y_release, a);
+  f.x_release_mid = 0.5 * (x_l + x_r);
+  f.half_width = 0.5 * (x_r - x_l);
+  bool mirrored = spec.sides[0].size() == spec.sides[1].size();
+  for (std::size_t k = 0; mirrored && k < spec.sides[0].size(); ++k) {
+    mirrored = spec.sides[1][k].x == 0.0 - spec.sides[0][k].x && spec.sides[1][k].y == spec.sides[0][k].y;
+  }
+  const Material& ml = f.sides[0].material;
+  const Material& mr = f.sides[1].material;
+  f.symmetric = mirrored && ml.e == mr.e && ml.mu == mr.mu && ml.beta0 == mr.beta0;
+  if (f.symmetric) f.x_release_mid = 0.0;  // exactly: x_l = -x_r
+  finish(f, params);
+  return f;
+}
+
 }  // namespace
 
 Funnel make_funnel(const Params& params) {
   if (!params.profile) return v_funnel(params);
-  throw std::invalid_argument("profiles are not built yet");
+  return profile_funnel(params);
 }
-
-std::optional<ParamError> validate_profile(const ProfileSpec&, const Params&) { return std::nullopt; }
 
 }  // namespace funnel

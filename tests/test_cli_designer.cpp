@@ -98,7 +98,7 @@ TEST_F(Cli, SweepsVaryTheReleaseLikeAnyParameter) {
   ASSERT_EQ(r.code, 0) << r.output;
   const std::string csv = read("s.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
-  EXPECT_NE(csv.find(",0.5,0,-1,0,line,20,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",0.5,0,-1,0,60,60,0,line,20,"), std::string::npos) << csv;
 }
 
 }  // namespace

@@ -67,9 +67,7 @@ struct Funnel {
   bool closed = false;          ///< the lower ends coincide: no outlet, rest at the bottom
   bool symmetric = false;       ///< the right wall is the exact mirror of the left one (and materials equal)
   bool horizontal_outlet = true;///< the lower ends are at one height
-  double y_exit = 0.0;          ///< outlet height (horizontal outlet)
-  Vec2 exit_point;              ///< a point of the outlet line (the left lower end)
-  Vec2 exit_normal;             ///< unit normal of the outlet line, pointing up into the funnel
+  double y_exit = 0.0;          ///< exit level: the lower of the two lower ends (crossed downward = exited)
   double y_bottom = 0.0;        ///< the funnel bottom: release-height is measured from it
   double y_release = 0.0;       ///< release height of the centre
   double x_release_mid = 0.0;   ///< middle of the release line
@@ -88,6 +86,9 @@ Funnel make_funnel(const Params& params);
 /// overhangs, segments longer than rounding, an outlet wider than 2a (unless closed), a release
 /// line inside the funnel. The error names the side and the vertex or segment.
 std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params& params);
+
+/// A symmetric profile: `left` as given and its mirror image x -> -x as the right side.
+ProfileSpec mirrored_profile(std::vector<Vec2> left);
 
 /// Release position of the centre for X = fraction in (-1, 1) on the release line.
 inline Vec2 release_point(const Funnel& f, double fraction) {

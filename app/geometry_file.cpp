@@ -1,0 +1,144 @@
+// Reading `--geometry FILE.toml` (docs/cli.md, "Geometry files").
+#include "geometry_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "suggest.hpp"
+
+namespace funnel::cli {
+
+const char* const geometry_layout =
+    "a geometry file holds [left] and [right] tables, each with vertices = [[x, y], ...] (the wall's surface "
+    "from its top down to its lower end, units of H, x to the right, y up) and optional e, mu, beta0; or "
+    "mirror = true and [left] only (the right wall is its mirror image x -> -x); optional bottom = Y (the "
+    "height release-height is measured from; default the higher lower end)";
+
+namespace {
+
+[[noreturn]] void fail(const std::string& file, const std::string& what) {
+  throw UsageError("invalid geometry = '" + file + "': " + what + "; " + geometry_layout);
+}
+
+std::string read_file(const std::string& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (!fs::exists(st)) throw UsageError("invalid geometry = '" + file + "': no such file");
+  if (fs::is_directory(st)) fail(file, "is a directory, not a TOML file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw UsageError("invalid geometry = '" + file + "': cannot be read: " + std::strerror(errno));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+std::optional<double> number_of(const toml::node& node) {
+  if (const auto v = node.value<double>()) return *v;  // floating point, or an integer converted
+  return std::nullopt;
+}
+
+std::vector<Vec2> vertices_of(const std::string& file, const std::string& key, const toml::node& node) {
+  const toml::array* list = node.as_array();
+  if (list == nullptr) fail(file, key + " is not an array of [x, y] pairs");
+  std::vector<Vec2> out;
+  for (std::size_t k = 0; k < list->size(); ++k) {
+    const toml::array* pair = (*list)[k].as_array();
+    std::optional<double> x, y;
+    if (pair != nullptr && pair->size() == 2) {
+      x = number_of((*pair)[0]);
+      y = number_of((*pair)[1]);
+    }
+    if (!x || !y) fail(file, key + "[" + std::to_string(k) + "] is not a pair of numbers [x, y]");
+    out.push_back({*x, *y});
+  }
+  return out;
+}
+
+struct SideIn {
+  std::optional<std::vector<Vec2>> vertices;
+  std::optional<double> e, mu, beta0;
+};
+
+SideIn side_of(const std::string& file, const std::string& name, const toml::node& node) {
+  const toml::table* tbl = node.as_table();
+  if (tbl == nullptr) fail(file, name + " is not a table [" + name + "]");
+  SideIn side;
+  const std::vector<std::string> keys{"vertices", "e", "mu", "beta0"};
+  for (auto&& [k, value] : *tbl) {
+    const std::string key(k.str());
+    if (key == "vertices") {
+      side.vertices = vertices_of(file, name + ".vertices", value);
+      continue;
+    }
+    std::optional<double>* slot = key == "e" ? &side.e : key == "mu" ? &side.mu : key == "beta0" ? &side.beta0 : nullptr;
+    if (slot == nullptr) {
+      const auto s = nearest(key, keys);
+      fail(file, "unknown key '" + key + "' in [" + name + "]" + (s ? " (did you mean '" + *s + "'?)" : ""));
+    }
+    *slot = number_of(value);
+    if (!*slot) fail(file, name + "." + key + " is not a number");
+  }
+  return side;
+}
+
+}  // namespace
+
+std::shared_ptr<const ProfileSpec> read_geometry(const std::string& file) {
+  const std::string text = read_file(file);
+  toml::table tbl;
+  try {
+    tbl = toml::parse(text, file);
+  } catch (const toml::parse_error& err) {
+    const auto& at = err.source().begin;
+    throw UsageError("invalid geometry = '" + file + "': line " + std::to_string(at.line) + ", column " +
+                     std::to_string(at.column) + ": " + std::string(err.description()));
+  }
+  std::optional<SideIn> left, right;
+  bool mirror = false;
+  std::optional<double> bottom;
+  const std::vector<std::string> keys{"left", "right", "mirror", "bottom"};
+  for (auto&& [k, node] : tbl) {
+    const std::string key(k.str());
+    if (key == "left") {
+      left = side_of(file, "left", node);
+    } else if (key == "right") {
+      right = side_of(file, "right", node);
+    } else if (key == "mirror") {
+      const auto b = node.value<bool>();
+      if (!b) fail(file, "mirror is not true or false");
+      mirror = *b;
+    } else if (key == "bottom") {
+      bottom = number_of(node);
+      if (!bottom) fail(file, "bottom is not a number");
+    } else {
+      const auto s = nearest(key, keys);
+      fail(file, "unknown key '" + key + "'" + (s ? " (did you mean '" + *s + "'?)" : ""));
+    }
+  }
+  if (!left || !left->vertices) fail(file, "no [left] table with vertices");
+  auto spec = std::make_shared<ProfileSpec>();
+  if (mirror) {
+    if (right && right->vertices) fail(file, "mirror = true and [right] vertices: give one or the other");
+    *spec = mirrored_profile(*left->vertices);
+  } else {
+    if (!right || !right->vertices) fail(file, "no [right] table with vertices (or mirror = true)");
+    spec->sides = {*left->vertices, *right->vertices};
+  }
+  spec->e = {left->e, right ? right->e : (mirror ? left->e : std::nullopt)};
+  spec->mu = {left->mu, right ? right->mu : (mirror ? left->mu : std::nullopt)};
+  spec->beta0 = {left->beta0, right ? right->beta0 : (mirror ? left->beta0 : std::nullopt)};
+  spec->bottom = bottom;
+  spec->source = file;
+  return spec;
+}
+
+}  // namespace funnel::cli

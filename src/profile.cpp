@@ -1,0 +1,155 @@
+// Checks of a user's wall profile (docs/model.md §2b): every rule the engine relies on, with an
+// error that names the side, the vertex or segment, its value and the rule.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "funnel/funnel.hpp"
+
+namespace funnel {
+
+namespace {
+
+const char* side_name(int i) { return i == 0 ? "left" : "right"; }
+
+ParamError profile_error(const std::string& where, const std::string& value, const std::string& rule) {
+  return ParamError{"geometry " + where, value, rule};
+}
+
+std::string point_text(Vec2 p) { return "(" + format_number(p.x) + ", " + format_number(p.y) + ")"; }
+
+/// x of a wall's surface at height y (y within the wall's heights), for a monotone wall.
+double surface_x(const std::vector<Vec2>& v, double y) {
+  if (y >= v.front().y) {  // the top segment, continued without limit
+    const Vec2 d = v[0] - v[1];
+    return v[0].x + d.x * (y - v[0].y) / d.y;
+  }
+  for (std::size_t k = 0; k + 1 < v.size(); ++k) {
+    const Vec2 hi = v[k], lo = v[k + 1];
+    if (y <= hi.y && y >= lo.y) return hi.y == lo.y ? (hi.x + lo.x) / 2.0 : lo.x + (hi.x - lo.x) * (y - lo.y) / (hi.y - lo.y);
+  }
+  return v.back().x;
+}
+
+}  // namespace
+
+std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params& params) {
+  constexpr double min_length = 1e-9;  // units of H: shorter segments are rounding, not geometry
+  constexpr double max_coordinate = 1e6;
+  for (int i = 0; i < 2; ++i) {
+    const std::vector<Vec2>& v = spec.sides[i];
+    const std::string side = side_name(i);
+    if (v.size() < 2) {
+      return profile_error(side + ".vertices", std::to_string(v.size()) + " vertices",
+                           "at least 2 vertices (top to bottom) per side");
+    }
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      if (!(std::fabs(v[k].x) <= max_coordinate && std::fabs(v[k].y) <= max_coordinate)) {
+        return profile_error(side + ".vertices[" + std::to_string(k) + "]", point_text(v[k]),
+                             "finite coordinates, |x|, |y| <= 1e6 (units of H)");
+      }
+    }
+    const double inward = i == 0 ? 1.0 : -1.0;  // the direction of the outlet from this side
+    for (std::size_t k = 0; k + 1 < v.size(); ++k) {
+      const Vec2 d = v[k + 1] - v[k];  // down the wall
+      const std::string where = side + " segment " + std::to_string(k) + "-" + std::to_string(k + 1);
+      if (!(std::hypot(d.x, d.y) > min_length)) {
+        return profile_error(where, point_text(v[k]) + " to " + point_text(v[k + 1]),
+                             "segments longer than 1e-9 (units of H): drop repeated vertices");
+      }
+      if (d.y > 0.0 || inward * d.x < 0.0) {
+        return profile_error(where, point_text(v[k]) + " to " + point_text(v[k + 1]),
+                             std::string("a wall that goes down (or level) and towards the outlet from its top ") +
+                                 "to its lower end: x " + (i == 0 ? "non-decreasing" : "non-increasing") +
+                                 " and y non-increasing along the vertices");
+      }
+      if (k > 0) {
+        const Vec2 u = v[k] - v[k - 1];
+        const double cross = u.x * d.y - u.y * d.x;
+        if (std::fabs(cross) <= 1e-12 * std::hypot(u.x, u.y) * std::hypot(d.x, d.y)) {
+          return profile_error(side + ".vertices[" + std::to_string(k) + "]", point_text(v[k]),
+                               "a vertex where the wall turns: merge collinear segments");
+        }
+      }
+    }
+    if (v[0].y == v[1].y) {
+      return profile_error(side + " segment 0-1", point_text(v[0]) + " to " + point_text(v[1]),
+                           "a top segment that rises (not horizontal): the wall continues along it upward");
+    }
+    const std::optional<double> materials[3] = {spec.e[i], spec.mu[i], spec.beta0[i]};
+    if (materials[0] && !(*materials[0] >= 0.0 && *materials[0] <= 1.0)) {
+      return profile_error(side + ".e", format_number(*materials[0]), "0 <= e <= 1");
+    }
+    if (materials[1] && !(*materials[1] >= 0.0 && std::isfinite(*materials[1]))) {
+      return profile_error(side + ".mu", format_number(*materials[1]), "mu >= 0 (finite)");
+    }
+    if (materials[2] && !(*materials[2] >= -1.0 && *materials[2] <= 1.0)) {
+      return profile_error(side + ".beta0", format_number(*materials[2]), "-1 <= beta0 <= 1");
+    }
+  }
+
+  const Vec2 el = spec.sides[0].back(), er = spec.sides[1].back();
+  const bool closed = el.x == er.x && el.y == er.y;
+  const double a = params.radius;
+  if (closed) {
+    // The two lowest segments must form a wedge (not parallel, not a flat floor).
+    const Vec2 dl = spec.sides[0][spec.sides[0].size() - 2] - el, dr = spec.sides[1][spec.sides[1].size() - 2] - er;
+    if (!(std::fabs(dl.x * dr.y - dl.y * dr.x) > 1e-12 * std::hypot(dl.x, dl.y) * std::hypot(dr.x, dr.y)) ||
+        (dl.y == 0.0 && dr.y == 0.0)) {
+      return profile_error("lower ends", point_text(el),
+                           "a closed funnel's two lowest segments meet at an angle (a wedge, not a flat floor)");
+    }
+  } else {
+    // Walls that go down towards the outlet narrow downwards: the narrowest passage is at the
+    // higher lower end's level, and the lower ends must be farther apart than the diameter.
+    const double y = std::max(el.y, er.y);
+    const double width = surface_x(spec.sides[1], y) - surface_x(spec.sides[0], y);
+    const double ends = std::hypot(er.x - el.x, er.y - el.y);
+    if (!(el.x < er.x && width > 2.0 * a && ends > 2.0 * a)) {
+      return profile_error("outlet", point_text(el) + " to " + point_text(er),
+                           "the left lower end left of the right one, the walls' lower ends (or closed: equal) farther "
+                           "apart than 2*radius = " + format_number(2.0 * a) + " and the walls wider than that at "
+                           "the higher end's level");
+    }
+  }
+  if (spec.bottom && !std::isfinite(*spec.bottom)) {
+    return profile_error("bottom", format_number(*spec.bottom), "a finite height (units of H)");
+  }
+
+  // The runtime funnel: every face's region must have a non-negative length (a short segment
+  // between two concave corners may vanish for a large sphere), and the release line must have
+  // a width.
+  Params p = params;
+  p.profile = std::shared_ptr<const ProfileSpec>(std::shared_ptr<const ProfileSpec>(), &spec);  // not owned
+  const Funnel f = make_funnel(p);
+  for (int i = 0; i < 2; ++i) {
+    const Side& s = f.sides[i];
+    for (std::size_t k = 0; k + 1 < s.faces.size(); ++k) {
+      const std::size_t n = spec.sides[i].size();
+      if (!(s.faces[k].length >= 0.0)) {
+        return profile_error(std::string(side_name(i)) + " segment " + std::to_string(n - k - 2) + "-" +
+                                 std::to_string(n - k - 1),
+                             point_text(spec.sides[i][n - k - 2]) + " to " + point_text(spec.sides[i][n - k - 1]),
+                             "a segment long enough for a sphere of radius " + format_number(a) +
+                                 " to touch it between its corners");
+      }
+    }
+  }
+  if (!(f.half_width > 0.0 && std::isfinite(f.half_width) && std::isfinite(f.x_release_mid))) {
+    ParamError err{"release-height", format_number(params.release_height),
+                   "release-height > 0 with a release line of positive width between the walls, " +
+                       format_number(params.release_height) + " above the outlet at y = " + format_number(f.y_bottom)};
+    return err;
+  }
+  return std::nullopt;
+}
+
+ProfileSpec mirrored_profile(std::vector<Vec2> left) {
+  ProfileSpec spec;
+  spec.sides[1] = left;
+  for (Vec2& p : spec.sides[1]) p.x = 0.0 - p.x;
+  spec.sides[0] = std::move(left);
+  return spec;
+}
+
+}  // namespace funnel
