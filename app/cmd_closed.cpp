@@ -5,6 +5,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "funnel/closed.hpp"
+#include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
 #include "output.hpp"
 
@@ -41,6 +42,10 @@ struct ClosedCommand {
     // The defaults of this command (the paper's Figs. 11 and 12), where the user gave none.
     for (const auto& [name, value] : closed_defaults) m.given.emplace(name, value);
     const Params params = to_params(m);
+    if (params.profile && !make_funnel(params).closed) {
+      throw UsageError("invalid geometry = '" + model.geometry +
+                       "': funnel closed needs a closed funnel (the two walls' lower ends at one point)");
+    }
     const EnsembleOptions ensemble = to_ensemble_options(ens);
     ClosedOptions opt;
     opt.max_time = params.t_max;
@@ -54,11 +59,12 @@ struct ClosedCommand {
     check_writable(out);
 
     const ClosedResult r = run_closed(params, ensemble, opt);
-    const double half_width = make_geometry(params).half_width;
+    const double half_width = make_funnel(params).half_width;
     std::string text;
     if (fmt == Format::Json) {
       nlohmann::ordered_json j;
       j["params"] = params_json(params);
+      j["geometry"] = geometry_json(params);
       j["release_dist"] = to_string(ensemble.dist);
       j["samples"] = ensemble.samples;
       j["options"] = {{"max_time", opt.max_time}, {"max_collisions", opt.max_collisions}, {"window", opt.window},

@@ -61,6 +61,7 @@ struct EnsembleCommand {
     if (fmt == Format::Json) {
       nlohmann::ordered_json j;
       j["params"] = params_json(params);
+      j["geometry"] = geometry_json(params);
       j.update(options_json(options));
       j.update(ensemble_json(r));
       if (per_sample) {

@@ -44,6 +44,7 @@ struct TrajectoryCommand {
     if (fmt == Format::Json) {
       nlohmann::ordered_json j;
       j["params"] = params_json(params);
+      j["geometry"] = geometry_json(params);
       j["release"] = *x;
       j["x0"] = release_point(g, *x).x;
       j["y0"] = g.y_release;

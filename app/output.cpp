@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cli_common.hpp"
+#include "funnel/funnel.hpp"
 #include "funnel/observables.hpp"
 #include "funnel/version.hpp"
 
@@ -52,6 +53,27 @@ nlohmann::ordered_json params_json(const Params& p) {
     } else {
       j[info.key()] = json_number(info.get(p));
     }
+  }
+  return j;
+}
+
+nlohmann::ordered_json geometry_json(const Params& p) {
+  const Funnel f = make_funnel(p);
+  nlohmann::ordered_json j;
+  j["source"] = f.source;
+  j["closed"] = f.closed;
+  j["symmetric"] = f.symmetric;
+  j["y_exit"] = json_number(f.y_exit);
+  j["y_release"] = json_number(f.y_release);
+  j["x_release_mid"] = json_number(f.x_release_mid);
+  j["half_width"] = json_number(f.half_width);
+  for (const int i : {0, 1}) {
+    const char* side = i == 0 ? "left" : "right";
+    auto& w = j["walls"][side];
+    w = nlohmann::ordered_json::array();
+    for (const Vec2 v : wall_surface(f, i, drawing_top(f))) w.push_back({json_number(v.x), json_number(v.y)});
+    const Material& m = f.sides[i].material;
+    j["materials"][side] = {{"e", json_number(m.e)}, {"mu", json_number(m.mu)}, {"beta0", json_number(m.beta0)}};
   }
   return j;
 }

@@ -16,6 +16,10 @@ namespace funnel::cli {
 
 /// Every parameter by its output key: {"theta": ..., "e": ..., ..., "eps_rest": ...}.
 nlohmann::ordered_json params_json(const Params& p);
+
+/// The funnel of a run: its source ("v" or the geometry file), the walls' surfaces (top cut
+/// 0.1 above the release line), the exit level, the release line and each wall's material.
+nlohmann::ordered_json geometry_json(const Params& p);
 /// {"version": ..., "git_commit": ..., "command": ...}: what is needed to regenerate an output.
 nlohmann::ordered_json provenance_json(const std::string& command_line);
 /// Observables of one trajectory, without params and events (exit ones null if it did not exit).

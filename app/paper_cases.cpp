@@ -116,7 +116,12 @@ FigureSpec load_figure(const std::string& path, bool quick) {
       panel.id = (*t)["id"].value_or(std::string());
       panel.label = (*t)["label"].value_or(std::string());
       if (panel.id.empty()) fail(path, "a panel has no id");
-      read_params(*t, panel.params, path);
+      toml::table own = *t;
+      if (const toml::node* off = own.get("theta-right-offset")) {
+        panel.theta_right_offset = number_of(*off, path, "theta-right-offset");
+        own.erase("theta-right-offset");
+      }
+      read_params(own, panel.params, path);
       fig.panels.push_back(panel);
     }
   }

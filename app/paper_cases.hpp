@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,8 @@ struct PanelSpec {
   std::string id;
   std::string label;
   std::map<std::string, double> params;
+  /// theta-right = theta + this at every grid point (an asymmetric V that follows the angle).
+  std::optional<double> theta_right_offset;
 };
 
 /// A figure definition read from paper/figNN.toml.

@@ -33,7 +33,14 @@ double mean_of(const EnsembleResult& r, const std::string& observable) {
 
 /// The grid points of one panel and release distribution of a theta-sweep figure.
 std::vector<Params> sweep_points(const FigureSpec& fig, const PanelSpec& panel) {
-  return expand_grid(panel_params(fig, panel), fig.grid);
+  std::vector<Params> points = expand_grid(panel_params(fig, panel), fig.grid);
+  if (!panel.theta_right_offset) return points;
+  std::vector<Params> kept;
+  for (Params p : points) {
+    p.theta_right = p.theta + *panel.theta_right_offset;
+    if (p.theta_right > 0.0 && p.theta_right < 90.0) kept.push_back(p);
+  }
+  return kept;
 }
 
 /// The series value of a point, as text ("1", "0.99", "disk").

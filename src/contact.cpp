@@ -66,6 +66,12 @@ ContactResult slide_on_face(const State& start, const Face& face, double ws, con
     // ... and the upper end of a bounded region: w t + accel t^2/2 = remaining - length.
     const double t_high = bounded ? first_positive_root(0.5 * ph.accel, w, face.length - remaining) : never;
     const double t_end = std::fmin(t_low, t_high);
+    if (t_end == never && t_limit == never) {
+      // No end is ever reached (only on a ledge, at rest): the contact ends here, at rest.
+      res.at_rest = true;
+      res.last_regime = ph.regime;
+      return true;
+    }
     const double dt = std::fmin(t_end, t_limit);
     res.phases[res.phase_count++] = {remaining, w, ph.accel, ph.force, dt};
     const double ds = w * dt + 0.5 * ph.accel * dt * dt;
@@ -100,6 +106,10 @@ ContactResult slide_on_face(const State& start, const Face& face, double ws, con
 
   res.end.v = w * down;
   res.end.omega = spin_sign * spin;
+  if (res.at_rest) {
+    res.end.r = face.low + (-remaining) * face.down;  // where it stopped, `remaining` up from the lower end
+    return res;
+  }
   // Place the centre exactly at the end of the region, so no drift accumulates.
   res.end.r = res.at_high_end ? face.high : face.low;
   return res;

@@ -303,9 +303,8 @@ class Run {
       sink_->record(e);
     }
     if (!(time_ + res.duration <= params_.t_max)) {
-      // The cap falls inside the contact (or a particle rests on a ledge for ever): stop there
-      // (observables up to its start).
-      end(res.duration == never ? Status::Rest : Status::Trapped, params_.t_max);
+      // The cap falls inside the contact: stop there (observables up to its start).
+      end(Status::Trapped, params_.t_max);
       return false;
     }
     time_ += res.duration;
@@ -318,10 +317,12 @@ class Run {
     const State arrived = res.end;
     state_ = res.end;
     double lost_end = res.energy_lost;
-    const bool rest = !res.at_high_end && sd.corners[part.index].bottom;
+    // At rest at a closed funnel's bottom, or on a ledge.
+    const bool rest = res.at_rest || (!res.at_high_end && sd.corners[part.index].bottom);
     if (rest) {
-      // A closed funnel's contact ends at its bottom: the particle rests there (docs/model.md §5).
-      lost_end += energy(arrived, kappa_, radius_) - y_rest_;
+      // A closed funnel's contact ends at its bottom: the particle rests there (docs/model.md §5);
+      // on a ledge it stopped where it is.
+      lost_end += energy(arrived, kappa_, radius_) - (res.at_rest ? arrived.r.y : y_rest_);
       state_.v = {0.0, 0.0};
       state_.omega = 0.0;
     }

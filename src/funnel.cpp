@@ -257,6 +257,22 @@ Funnel profile_funnel(const Params& params) {
 
 }  // namespace
 
+std::vector<Vec2> wall_surface(const Funnel& f, int side, double y_top) {
+  const Side& s = f.sides[side];
+  const Corner& last = s.corners.back();
+  const Face& top = s.faces.back();
+  const double along = top.up.y > 0.0 ? (y_top - last.point.y) / top.up.y : 1.0;
+  std::vector<Vec2> out{last.point + along * top.up};
+  for (auto c = s.corners.rbegin(); c != s.corners.rend(); ++c) out.push_back(c->point);
+  return out;
+}
+
+double drawing_top(const Funnel& f) {
+  double top = f.y_release;
+  for (const Side& s : f.sides) top = std::max(top, s.corners.back().point.y);
+  return top + 0.1;
+}
+
 Funnel make_funnel(const Params& params) {
   if (!params.profile) return v_funnel(params);
   return profile_funnel(params);

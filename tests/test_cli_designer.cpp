@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -99,6 +100,63 @@ TEST_F(Cli, SweepsVaryTheReleaseLikeAnyParameter) {
   const std::string csv = read("s.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
   EXPECT_NE(csv.find(",0.5,0,-1,0,60,60,0,line,20,"), std::string::npos) << csv;
+}
+
+TEST_F(Cli, AGeometryFileGivesAnyFunnelAndItsWallsInTheJson) {
+  write("hopper.toml", "mirror = true\n[left]\nvertices = [[-2.0, 1.6], [-0.5, 0.734], [-0.1, -0.365]]\n");
+  const json t = parse(run("trajectory --geometry " + path("hopper.toml") + " --release 0"));
+  // Released at rest on the axis of a symmetric funnel: a free fall from 1 above the outlet.
+  EXPECT_EQ(t["status"], "exited");
+  EXPECT_EQ(t["collisions"], 0);
+  EXPECT_NEAR(t["exit_speed"].get<double>(), std::sqrt(2.0), 1e-14);
+  EXPECT_EQ(t["geometry"]["source"], path("hopper.toml"));
+  EXPECT_TRUE(t["geometry"]["symmetric"].get<bool>());
+  EXPECT_EQ(t["geometry"]["walls"]["right"].back()[0].get<double>(), 0.1);
+  EXPECT_EQ(t["geometry"]["walls"]["left"].size(), 3u);
+  const json e = parse(run("ensemble --geometry " + path("hopper.toml") + " --samples 200"));
+  EXPECT_EQ(e["simulated_collisions"].get<std::int64_t>() * 2, e["total_collisions"].get<std::int64_t>());
+  // Sweeps take the geometry for every point.
+  const Result s = run("sweep --geometry " + path("hopper.toml") + " --e 0.5,0.9 --samples 50 --out " + path("s.csv"));
+  ASSERT_EQ(s.code, 0) << s.output;
+  const std::string csv = read("s.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+}
+
+TEST_F(Cli, TheVsShortcutsSweepAndAsymmetryIsNotHalved) {
+  const json e = parse(run("ensemble --theta-left 40 --theta-right 50 --samples 200"));
+  EXPECT_EQ(e["simulated_collisions"], e["total_collisions"]);  // not mirror symmetric: no halving
+  EXPECT_EQ(e["params"]["theta_left"].get<double>(), 40.0);
+  const json spout = parse(run("trajectory --spout-length 0.5 --release 0"));
+  EXPECT_NEAR(spout["exit_speed"].get<double>(), std::sqrt(3.0), 1e-14);
+  const Result s = run("sweep --theta-right 50,55 --samples 20 --out " + path("a.csv"));
+  ASSERT_EQ(s.code, 0) << s.output;
+  EXPECT_NE(read("a.csv").find(",60,55,0,line,20,"), std::string::npos) << read("a.csv");
+}
+
+TEST_F(Cli, BadGeometriesAreRefusedNamingTheFileTheKeyAndTheRule) {
+  const std::string out = " --out " + path("never.json");
+  write("typo.toml", "mirror = true\n[left]\nvertice = [[-1, 1], [0, 0]]\n");
+  Result r = run("ensemble --geometry " + path("typo.toml") + out);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("did you mean 'vertices'"), std::string::npos) << r.output;
+  write("overhang.toml", "mirror = true\n[left]\nvertices = [[-1, 1], [-1.5, 0.5], [-0.1, 0]]\n");
+  r = run("ensemble --geometry " + path("overhang.toml") + out);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("geometry left segment 0-1"), std::string::npos) << r.output;
+  write("narrow.toml", "[left]\nvertices = [[-1, 1], [-0.005, 0]]\n[right]\nvertices = [[1, 1], [0.005, 0]]\n");
+  r = run("trajectory --release 0 --geometry " + path("narrow.toml") + out);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("geometry outlet"), std::string::npos) << r.output;
+  r = run("ensemble --geometry " + path("missing.toml") + out);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("no such file"), std::string::npos) << r.output;
+  write("ok.toml", "mirror = true\n[left]\nvertices = [[-1, 1], [-0.1, 0]]\n");
+  r = run("ensemble --geometry " + path("ok.toml") + " --spout-length 0.1" + out);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("spout-length"), std::string::npos) << r.output;
+  expect_rejected(run("ensemble --theta-left 95" + out), "theta-left", "95");
+  expect_rejected(run("ensemble --gap 0 --spout-length 0.1" + out), "spout-length", "0.1");
+  EXPECT_EQ(file_count(), 4u);  // the four geometry files, no output
 }
 
 }  // namespace

@@ -19,6 +19,7 @@ struct FacePhase {
 struct ContactResult {
   State end;                  ///< state at the end: at the lower or the upper end of the face's region
   bool at_high_end = false;   ///< it ended at the upper end (moving up), else at the lower end
+  bool at_rest = false;       ///< it came to rest on a level face (a ledge): `end` is where, at rest
   double duration = 0.0;      ///< time in contact
   double impulse = 0.0;       ///< integral of sqrt(N^2 + F^2) dt
   double normal_impulse = 0.0;///< integral of N dt, N = cos(angle of the face)
@@ -35,7 +36,8 @@ struct ContactResult {
 /// constant acceleration: sliding until the slip vanishes, then rolling if
 /// tan(angle) <= mu (1 + kappa)/kappa, else sliding again. Down the face it ends at the lower
 /// end; a particle moving up (handed over by an edge, or with back-spin) may reach the upper end
-/// of a bounded region first, or turn and come back down.
+/// of a bounded region first, or turn and come back down. On a level face (a ledge) a particle
+/// that stops, or rolls with zero speed, rests there for ever (at_rest).
 ContactResult slide_on_face(const State& start, const Face& face, double ws, const Material& m);
 
 }  // namespace funnel

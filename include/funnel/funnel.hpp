@@ -87,6 +87,14 @@ Funnel make_funnel(const Params& params);
 /// line inside the funnel. The error names the side and the vertex or segment.
 std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params& params);
 
+/// The surface of wall `side` (0 left, 1 right) as vertices from the top down to its lower end,
+/// the top segment cut at height y_top (for drawing and outputs).
+std::vector<Vec2> wall_surface(const Funnel& f, int side, double y_top);
+
+/// Height up to which a drawing shows the walls: 0.1 above the release line or the highest
+/// corner, whichever is higher.
+double drawing_top(const Funnel& f);
+
 /// A symmetric profile: `left` as given and its mirror image x -> -x as the right side.
 ProfileSpec mirrored_profile(std::vector<Vec2> left);
 

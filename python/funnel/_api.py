@@ -9,6 +9,8 @@ H = g = m = 1 (lengths in H, times in sqrt(H/g), impulses in m sqrt(gH), energie
 from __future__ import annotations
 
 import numbers
+import os
+import tomllib
 
 import numpy as np
 
@@ -109,6 +111,25 @@ def _wear_bins(value):
     return bins
 
 
+def _geometry(value):
+    """A funnel geometry for the core: None (the V of theta and gap), a dict laid out as a
+    geometry file, or the path of a geometry TOML file (docs/cli.md, "Geometry files")."""
+    if value is None or isinstance(value, dict):
+        return value
+    if isinstance(value, (str, os.PathLike)):
+        path = os.fspath(value)
+        try:
+            with open(path, "rb") as f:
+                data = tomllib.load(f)
+        except OSError as err:
+            raise ValueError(f"invalid geometry = '{path}': {err.strerror}") from None
+        except tomllib.TOMLDecodeError as err:
+            raise ValueError(f"invalid geometry = '{path}': {err}") from None
+        data["source"] = path
+        return data
+    raise TypeError(f"geometry must be a dict, a path or None, not {type(value).__name__}")
+
+
 def _text_columns(columns, names):
     for name in names:
         if name in columns:
@@ -116,7 +137,7 @@ def _text_columns(columns, names):
     return columns
 
 
-def simulate(release, events=False, wear_bins=0, **model):
+def simulate(release, events=False, wear_bins=0, geometry=None, **model):
     """Simulate one trajectory released at x0 = release * L.
 
     Parameters
@@ -127,6 +148,11 @@ def simulate(release, events=False, wear_bins=0, **model):
         Also return the event log (``--events``).
     wear_bins : int
         Also record where the walls wear in that many equal bins along each wall (``--wear-bins``).
+    geometry : dict, str, path or None
+        The funnel's walls (``--geometry``): a dict laid out as a geometry file ({"left":
+        {"vertices": [[x, y], ...], "e", "mu", "beta0"}, "right": {...}, "mirror", "bottom"}) or
+        the path of such a TOML file; None for the V of theta, theta_left/right, gap and
+        spout_length.
     **model
         Model parameters (theta, e, mu, beta0, radius, gap, inertia, t_max, max_collisions,
         release_height, release_u, release_v, release_spin); the others keep their defaults.
@@ -165,7 +191,7 @@ def simulate(release, events=False, wear_bins=0, **model):
     """
     core = _core()
     result = core.simulate(_model("simulate", model), _scalar("release", release), bool(events),
-                           _wear_bins(wear_bins))
+                           _wear_bins(wear_bins), _geometry(geometry))
     if events:
         _text_columns(result["events"], ("kind", "wall", "regime"))
     return result
@@ -200,7 +226,7 @@ def _progress_callback(progress, what):
 
 
 def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample=False, seed=1, release=0.0,
-             release_sd=0.1, velocity_sd=0.0, wear_bins=0, progress=False, **model):
+             release_sd=0.1, velocity_sd=0.0, wear_bins=0, progress=False, geometry=None, **model):
     """Statistics of the observables over ``samples`` releases, like ``funnel ensemble``.
 
     Parameters
@@ -229,6 +255,8 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample
     progress : bool or callable
         True shows a progress bar (tqdm, if installed; else a line on stderr); a callable is
         called with (done, total) work units. Ctrl-C interrupts the run (KeyboardInterrupt).
+    geometry : dict, str, path or None
+        The funnel's walls, as for :func:`simulate`.
     **model
         Model parameters, as for :func:`simulate`.
 
@@ -255,7 +283,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample
                            _count("threads", threads), bool(per_sample), _seed(seed),
                            _scalar("release", release), _scalar("release_sd", release_sd),
                            _scalar("velocity_sd", velocity_sd), _wear_bins(wear_bins),
-                           _progress_callback(progress, "ensemble"))
+                           _progress_callback(progress, "ensemble"), _geometry(geometry))
     if per_sample:
         _text_columns(result["per_sample"], ("status",))
     return result
@@ -276,7 +304,7 @@ def _axis_values(name, value):
 
 
 def sweep(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, seed=1, release=0.0, release_sd=0.1,
-          velocity_sd=0.0, progress=False, **model):
+          velocity_sd=0.0, progress=False, geometry=None, **model):
     """One ensemble per point of a parameter grid, like ``funnel sweep``.
 
     Each model keyword takes a number, a sequence or 1-D array of numbers, or a text
@@ -304,11 +332,12 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, seed=1, relea
     axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS if name in model]
     result = core.sweep(axes, _count("samples", samples), str(release_dist), _count("threads", threads),
                         _seed(seed), _scalar("release", release), _scalar("release_sd", release_sd),
-                        _scalar("velocity_sd", velocity_sd), _progress_callback(progress, "sweep"))
+                        _scalar("velocity_sd", velocity_sd), _progress_callback(progress, "sweep"),
+                        _geometry(geometry))
     return _text_columns(result, ("release_dist",))
 
 
-def geometry(**model):
+def geometry(geometry=None, **model):
     """Derived geometry of the funnel (origin where the two centre lines meet; units of H).
 
     Returns
@@ -318,8 +347,13 @@ def geometry(**model):
         (y_b, the edges' height and exit level), y_release (y_0 = y_b + H0), half_width
         (L = y_0 / tan(theta)), y_face_end and x_face_end (C*, lower end of the face region;
         the left one is at -x_face_end). The lower edge points are (+-half_gap, y_bottom).
+        For any funnel (also the V) also: source ("v" or the geometry's), symmetric (bool),
+        y_exit (the exit level), x_release_mid (middle of the release line: x0 = x_release_mid
+        + release * half_width) and walls {"left", "right"}: each wall's surface as (x, y)
+        vertices from the top (0.1 above the release line) down to its lower end. With
+        ``geometry`` (as for :func:`simulate`) the V's own entries describe the parameters' V.
     """
-    return _core().geometry(_model("geometry", model))
+    return _core().geometry(_model("geometry", model), _geometry(geometry))
 
 
 def default_params():

@@ -41,7 +41,15 @@ def time_colormap():
 def draw_funnel(ax, g):
     """Walls (solid, ending at the edge points), centre lines (dotted, meeting at the origin)
     and the release line (dash-dotted), in the frame of the paper's Fig. 1. g: a geometry dict
-    (theta [deg], half_gap, y_bottom, y_release, half_width, as funnel.geometry())."""
+    (theta [deg], half_gap, y_bottom, y_release, half_width, as funnel.geometry()). A funnel
+    of any shape (g["walls"] and g["source"] != "v") is drawn from its walls' vertices."""
+    if _from_walls(g):
+        for side in ("left", "right"):
+            xy = np.asarray(g["walls"][side], dtype=float)
+            ax.plot(xy[:, 0], xy[:, 1], color="k", lw=1.6, solid_capstyle="butt", zorder=3)
+        mid, L = g.get("x_release_mid", 0.0), g["half_width"]
+        ax.plot([mid - L, mid + L], [g["y_release"]] * 2, color="0.3", lw=0.7, ls="-.", zorder=1)
+        return
     t = math.radians(g["theta"])
     s, c = math.sin(t), math.cos(t)
     top = g["y_release"] + 0.06
@@ -130,13 +138,34 @@ def draw_zoom(ax, g, events, window, main_ax=None):
                                     zorder=5))
 
 
+def _shaped_v(g):
+    """True for a V with its own wall angles or a spout (drawn from its walls' vertices)."""
+    walls = g.get("walls")
+    return bool(walls) and (len(walls["left"]) > 2 or not g.get("symmetric", True))
+
+
+def _from_walls(g):
+    """True when a funnel is drawn from its walls' vertices: a profile, or a V with its own wall
+    angles or a spout (the paper's V keeps its centre lines, meeting at the origin)."""
+    return bool(g.get("walls")) and (g.get("source", "v") != "v" or _shaped_v(g))
+
+
+def _walls_xy(g):
+    return np.concatenate([np.asarray(g["walls"][side], dtype=float) for side in ("left", "right")])
+
+
 def funnel_extent(g):
     """(half width, top) of the drawing area of a funnel, in H."""
+    if _from_walls(g):
+        xy = _walls_xy(g)
+        return float(np.max(np.abs(xy[:, 0]))) + 0.05, g["y_release"] + 0.1
     return g["y_release"] / math.tan(math.radians(g["theta"])) + 0.1, g["y_release"] + 0.1
 
 
 def funnel_ylim(g):
     """(bottom, top) of the drawing area of a funnel, in H."""
+    if _from_walls(g):
+        return float(np.min(_walls_xy(g)[:, 1])) - 0.05, funnel_extent(g)[1]
     return min(0.0, g["y_bottom"]) - 0.05, funnel_extent(g)[1]
 
 
@@ -178,7 +207,7 @@ def plot_trajectory(result, geometry, title=None):
     t_end = float(events["time"][-1]) if len(events["time"]) else 1.0
     lines = draw_path(ax, g, events, Normalize(0.0, t_end), lw=0.35 if len(events["time"]) > 100 else 0.8,
                       point_size=2.5)
-    x0 = float(g["release"]) * float(g["half_width"])
+    x0 = g.get("x_release_mid", 0.0) + float(g["release"]) * float(g["half_width"])
     ax.plot(x0, g["y_release"], "o", ms=3.5, color=RELEASE_COLOR, zorder=5)
     ax.set_aspect("equal")
     ax.set_xlim(-w, w)
@@ -262,7 +291,8 @@ def simulate_for_plot(release, **model):
     the release x0/L added (what plot_trajectory and funnel.animate take)."""
     import funnel
     result = funnel.simulate(release=release, events=True, **model)
-    geometry = dict(funnel.geometry(**model), release=float(release))
+    shape = model.pop("geometry", None)
+    geometry = dict(funnel.geometry(geometry=shape, **model), release=float(release))
     return result, geometry
 
 
@@ -274,12 +304,17 @@ def add_model_arguments(parser):
     for name in funnel.MODEL_PARAMETERS:
         parser.add_argument(f"--{name.replace('_', '-')}", dest=name, type=float, default=None,
                             help=f"{funnel.valid_range(name)} (default {defaults[name]:g})")
+    parser.add_argument("--geometry", default=None,
+                        help="the funnel's walls from a geometry TOML file (docs/cli.md, 'Geometry files')")
 
 
 def model_arguments(args):
     """The model keywords given on the command line."""
     import funnel
-    return {name: getattr(args, name) for name in funnel.MODEL_PARAMETERS if getattr(args, name) is not None}
+    model = {name: getattr(args, name) for name in funnel.MODEL_PARAMETERS if getattr(args, name) is not None}
+    if getattr(args, "geometry", None):
+        model["geometry"] = args.geometry
+    return model
 
 
 def save_figure(fig, out):

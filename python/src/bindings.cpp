@@ -11,6 +11,7 @@
 #include <complex>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,6 +20,7 @@
 #include "funnel/closed.hpp"
 #include "funnel/engine.hpp"
 #include "funnel/ensemble.hpp"
+#include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/grid.hpp"
 #include "funnel/observables.hpp"
@@ -44,10 +46,92 @@ std::string library_name(std::string name) {
   return name;
 }
 
-/// The parameters' defaults overridden by `model` ({python name: float}), validated.
-/// Throws ValueError with funnel::ParamError::message() for an invalid set.
-Params make_params(const std::map<std::string, double>& model) {
+/// A number of a geometry dict; ValueError naming the key otherwise.
+double geometry_number(const py::handle& h, const std::string& key) {
+  if (py::isinstance<py::bool_>(h) || !(py::isinstance<py::float_>(h) || py::isinstance<py::int_>(h))) {
+    throw py::value_error("invalid geometry: " + key + " is not a number");
+  }
+  return h.cast<double>();
+}
+
+/// The vertices [[x, y], ...] of one side of a geometry dict.
+std::vector<funnel::Vec2> geometry_vertices(const py::handle& h, const std::string& key) {
+  std::vector<funnel::Vec2> out;
+  if (!py::isinstance<py::sequence>(h) || py::isinstance<py::str>(h)) {
+    throw py::value_error("invalid geometry: " + key + " is not a list of [x, y] pairs");
+  }
+  std::size_t k = 0;
+  for (const py::handle item : h) {
+    const std::string at = key + "[" + std::to_string(k++) + "]";
+    if (!py::isinstance<py::sequence>(item) || py::len(item) != 2) {
+      throw py::value_error("invalid geometry: " + at + " is not a pair [x, y]");
+    }
+    const py::sequence pair = py::reinterpret_borrow<py::sequence>(item);
+    out.push_back({geometry_number(pair[0], at), geometry_number(pair[1], at)});
+  }
+  return out;
+}
+
+/// A profile from a geometry dict laid out as the CLI's TOML file (docs/cli.md, "Geometry
+/// files"): {"left": {"vertices": [...], "e", "mu", "beta0"}, "right": {...}, "mirror", "bottom"};
+/// None for the V.
+std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry) {
+  if (geometry.is_none()) return nullptr;
+  if (!py::isinstance<py::dict>(geometry)) throw py::type_error("geometry must be a dict, a path or None");
+  const py::dict g = geometry.cast<py::dict>();
+  for (const auto& [k, v] : g) {
+    const std::string key = py::str(k);
+    if (key != "left" && key != "right" && key != "mirror" && key != "bottom" && key != "source") {
+      throw py::value_error("invalid geometry: unknown key '" + key + "' (left, right, mirror, bottom)");
+    }
+  }
+  struct SideIn {
+    std::optional<std::vector<funnel::Vec2>> vertices;
+    std::optional<double> e, mu, beta0;
+  };
+  auto side_of = [](const py::dict& g, const char* name) -> std::optional<SideIn> {
+    if (!g.contains(name)) return std::nullopt;
+    const py::object o = g[name];
+    if (!py::isinstance<py::dict>(o)) throw py::value_error(std::string("invalid geometry: ") + name + " is not a dict");
+    SideIn s;
+    for (const auto& [k, v] : o.cast<py::dict>()) {
+      const std::string key = py::str(k);
+      const std::string at = std::string(name) + "." + key;
+      if (key == "vertices") {
+        s.vertices = geometry_vertices(v, at);
+      } else if (key == "e" || key == "mu" || key == "beta0") {
+        (key == "e" ? s.e : key == "mu" ? s.mu : s.beta0) = geometry_number(v, at);
+      } else {
+        throw py::value_error("invalid geometry: unknown key '" + at + "' (vertices, e, mu, beta0)");
+      }
+    }
+    return s;
+  };
+  const std::optional<SideIn> left = side_of(g, "left"), right = side_of(g, "right");
+  const bool mirror = g.contains("mirror") && g["mirror"].cast<bool>();
+  if (!left || !left->vertices) throw py::value_error("invalid geometry: no 'left' with 'vertices'");
+  auto spec = std::make_shared<funnel::ProfileSpec>();
+  if (mirror) {
+    if (right && right->vertices) throw py::value_error("invalid geometry: mirror = True and right vertices");
+    *spec = funnel::mirrored_profile(*left->vertices);
+  } else {
+    if (!right || !right->vertices) throw py::value_error("invalid geometry: no 'right' with 'vertices' (or mirror)");
+    spec->sides = {*left->vertices, *right->vertices};
+  }
+  spec->e = {left->e, right ? right->e : (mirror ? left->e : std::nullopt)};
+  spec->mu = {left->mu, right ? right->mu : (mirror ? left->mu : std::nullopt)};
+  spec->beta0 = {left->beta0, right ? right->beta0 : (mirror ? left->beta0 : std::nullopt)};
+  if (g.contains("bottom")) spec->bottom = geometry_number(g["bottom"], "bottom");
+  spec->source = g.contains("source") ? std::string(py::str(g["source"])) : std::string("profile");
+  return spec;
+}
+
+/// The parameters' defaults overridden by `model` ({python name: float}) on the funnel of
+/// `geometry` (a dict, or None for the V), validated. Throws ValueError with
+/// funnel::ParamError::message() for an invalid set.
+Params make_params(const std::map<std::string, double>& model, const py::object& geometry = py::none()) {
   Params p = funnel::default_params();
+  p.profile = profile_of(geometry);
   for (const auto& [key, value] : model) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
     if (info == nullptr || !info->option) throw py::type_error("unknown model parameter '" + key + "'");
@@ -55,6 +139,40 @@ Params make_params(const std::map<std::string, double>& model) {
   }
   if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
   return p;
+}
+
+/// The funnel of a run, as the CLI's JSON "geometry": source, closed, symmetric, exit level,
+/// release line, the walls' surfaces (top down) and each wall's material.
+py::dict geometry_record(const Params& params) {
+  const funnel::Funnel f = funnel::make_funnel(params);
+  py::dict d, walls, materials;
+  d["source"] = f.source;
+  d["closed"] = f.closed;
+  d["symmetric"] = f.symmetric;
+  d["y_exit"] = f.y_exit;
+  d["y_release"] = f.y_release;
+  d["x_release_mid"] = f.x_release_mid;
+  d["half_width"] = f.half_width;
+  for (const int i : {0, 1}) {
+    const char* side = i == 0 ? "left" : "right";
+    py::list w;
+    for (const funnel::Vec2 v : funnel::wall_surface(f, i, funnel::drawing_top(f))) {
+      py::list point;
+      point.append(v.x);
+      point.append(v.y);
+      w.append(point);
+    }
+    walls[side] = w;
+    const funnel::Material& m = f.sides[i].material;
+    py::dict mat;
+    mat["e"] = m.e;
+    mat["mu"] = m.mu;
+    mat["beta0"] = m.beta0;
+    materials[side] = mat;
+  }
+  d["walls"] = walls;
+  d["materials"] = materials;
+  return d;
 }
 
 /// Every parameter by its output key, as the CLI's "params".
@@ -195,8 +313,9 @@ void run_interruptible(funnel::EnsembleOptions& options, const py::object& progr
 // ---------------------------------------------------------------------------------------------
 // Module functions
 
-py::dict simulate(const std::map<std::string, double>& model, double release, bool events, int wear_bins) {
-  const Params params = make_params(model);
+py::dict simulate(const std::map<std::string, double>& model, double release, bool events, int wear_bins,
+                  const py::object& geometry) {
+  const Params params = make_params(model, geometry);
   if (!(release > -1.0 && release < 1.0)) {
     throw py::value_error("invalid release = " + funnel::format_number(release) +
                           ": valid range is -1 < release < 1 (x0/L)");
@@ -214,6 +333,7 @@ py::dict simulate(const std::map<std::string, double>& model, double release, bo
   }
   py::dict d;
   d["params"] = params_dict(params);
+  d["geometry"] = geometry_record(params);
   d["release"] = release;
   d["x0"] = funnel::release_point(g, release).x;
   d["y0"] = g.y_release;
@@ -228,8 +348,8 @@ py::dict simulate(const std::map<std::string, double>& model, double release, bo
 
 py::dict ensemble(const std::map<std::string, double>& model, std::int64_t samples, const std::string& dist,
                   int threads, bool per_sample, std::uint64_t seed, double release, double release_sd,
-                  double velocity_sd, int wear_bins, const py::object& progress) {
-  const Params params = make_params(model);
+                  double velocity_sd, int wear_bins, const py::object& progress, const py::object& geometry) {
+  const Params params = make_params(model, geometry);
   funnel::EnsembleOptions options =
       ensemble_options(samples, dist, threads, seed, release, release_sd, velocity_sd, wear_bins);
   options.keep_samples = per_sample;
@@ -239,6 +359,7 @@ py::dict ensemble(const std::map<std::string, double>& model, std::int64_t sampl
   });
   py::dict d;
   d["params"] = params_dict(params);
+  d["geometry"] = geometry_record(params);
   d["release_dist"] = std::string(funnel::to_string(options.dist));
   if (funnel::is_random(options)) d["seed"] = options.seed;
   if (options.dist == funnel::ReleaseDist::Gaussian) {
@@ -284,7 +405,8 @@ py::dict ensemble(const std::map<std::string, double>& model, std::int64_t sampl
 /// the library's axis order (funnel::sweep_parameter_names()), as `funnel sweep` does.
 py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& axes_in, std::int64_t samples,
                const std::string& dist, int threads, std::uint64_t seed, double release, double release_sd,
-               double velocity_sd, const py::object& progress) {
+               double velocity_sd, const py::object& progress, const py::object& geometry) {
+  const Params base = make_params({}, geometry);
   std::vector<funnel::Axis> axes;
   for (const std::string& name : funnel::sweep_parameter_names()) {
     for (const auto& [key, values] : axes_in) {
@@ -308,7 +430,7 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
       if (const auto err = funnel::set_parameter_checked(probe, a.name, v)) throw py::value_error(err->message());
     }
   }
-  const std::vector<Params> points = funnel::expand_grid(funnel::default_params(), axes);
+  const std::vector<Params> points = funnel::expand_grid(base, axes);
   for (const Params& p : points) {
     if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
   }
@@ -384,8 +506,8 @@ py::list observable_table() {
   return l;
 }
 
-py::dict geometry(const std::map<std::string, double>& model) {
-  const Params params = make_params(model);
+py::dict geometry(const std::map<std::string, double>& model, const py::object& profile) {
+  const Params params = make_params(model, profile);
   const funnel::Geometry g = funnel::make_geometry(params);
   py::dict d;
   d["theta"] = params.theta;
@@ -400,6 +522,8 @@ py::dict geometry(const std::map<std::string, double>& model) {
   d["half_width"] = g.half_width;
   d["y_face_end"] = g.y_face_end;
   d["x_face_end"] = g.x_face_end;
+  // Any funnel: its walls' surfaces, the exit level, the release line's middle (the V: 0).
+  for (const auto& [k, v] : geometry_record(params)) d[k] = v;
   return d;
 }
 
@@ -499,15 +623,16 @@ void bind_retrace(py::module_& m);  // bind_retrace.cpp
 
 PYBIND11_MODULE(_funnel, m) {
   m.doc() = "Compiled core of funnel (pybind11). Use the documented wrappers in the `funnel` package.";
-  m.def("simulate", &simulate, py::arg("model"), py::arg("release"), py::arg("events"), py::arg("wear_bins"));
+  m.def("simulate", &simulate, py::arg("model"), py::arg("release"), py::arg("events"), py::arg("wear_bins"),
+        py::arg("geometry") = py::none());
   m.def("ensemble", &ensemble, py::arg("model"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
         py::arg("per_sample"), py::arg("seed"), py::arg("release"), py::arg("release_sd"), py::arg("velocity_sd"),
-        py::arg("wear_bins"), py::arg("progress"));
+        py::arg("wear_bins"), py::arg("progress"), py::arg("geometry") = py::none());
   m.def("sweep", &sweep, py::arg("axes"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
-        py::arg("seed"), py::arg("release"), py::arg("release_sd"), py::arg("velocity_sd"), py::arg("progress"));
+        py::arg("seed"), py::arg("release"), py::arg("release_sd"), py::arg("velocity_sd"), py::arg("progress"), py::arg("geometry") = py::none());
   m.def("parameters", &parameter_table);
   m.def("observables", &observable_table);
-  m.def("geometry", &geometry, py::arg("model"));
+  m.def("geometry", &geometry, py::arg("model"), py::arg("profile") = py::none());
   m.def("parse_values", &parse_values, py::arg("name"), py::arg("text"));
   m.def("default_params", &default_params);
   m.def("valid_range", [](const std::string& name) { return std::string(funnel::valid_range(library_name(name))); },

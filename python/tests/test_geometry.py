@@ -1,0 +1,78 @@
+"""Any 2D funnel from Python: geometry= as a dict or a TOML path, the V's shortcuts, errors."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import funnel
+
+ROOT = Path(__file__).resolve().parents[2]
+LINED = ROOT / "examples" / "geometry" / "lined.toml"
+HOPPER = {"mirror": True, "left": {"vertices": [[-2.0, 1.6], [-0.5, 0.734], [-0.1, -0.365]]}}
+
+
+def test_a_dict_and_its_toml_file_give_the_same_funnel(tmp_path):
+    path = tmp_path / "hopper.toml"
+    path.write_text("mirror = true\n[left]\nvertices = [[-2.0, 1.6], [-0.5, 0.734], [-0.1, -0.365]]\n")
+    a = funnel.ensemble(samples=300, geometry=HOPPER)
+    b = funnel.ensemble(samples=300, geometry=path)
+    assert a["duration"] == b["duration"]
+    assert a["simulated_collisions"] * 2 == a["total_collisions"]  # mirror symmetric: half simulated
+
+
+def test_a_free_fall_on_the_axis_of_a_symmetric_profile():
+    r = funnel.simulate(release=0.0, geometry=HOPPER)
+    assert r["status"] == "exited" and r["collisions"] == 0
+    assert r["exit_speed"] == pytest.approx(math.sqrt(2.0), rel=1e-14)
+
+
+def test_per_wall_materials_from_a_file_change_the_result():
+    lined = funnel.ensemble(samples=400, geometry=LINED)
+    same = funnel.ensemble(samples=400, geometry={"left": {"vertices": [[-2.0, 1.6], [-0.5, 0.734], [-0.1, -0.365]]},
+                                                  "right": {"vertices": [[0.9, 1.6], [0.6, 0.3], [0.35, 0.3],
+                                                                         [0.1, -0.365]]}})
+    assert lined["energy_loss"]["mean"] != same["energy_loss"]["mean"]
+    assert lined["status_counts"]["rest"] > 0  # some stop on the ledge
+
+
+def test_geometry_describes_the_walls_for_drawing():
+    g = funnel.geometry(geometry=LINED)
+    assert g["source"] == str(LINED)
+    assert not g["symmetric"]
+    assert g["walls"]["right"][-1] == [0.1, -0.365]
+    assert g["y_exit"] == -0.365
+    v = funnel.geometry(theta_left=40, theta_right=50, spout_length=0.2)
+    assert len(v["walls"]["left"]) == 3 and not v["symmetric"]
+    assert v["y_exit"] == pytest.approx(v["y_bottom"] - 0.2, abs=1e-15)
+
+
+def test_sweeps_take_a_geometry_and_the_shortcuts():
+    s = funnel.sweep(e=[0.5, 0.9], samples=40, geometry=HOPPER)
+    assert s["e"].tolist() == [0.5, 0.9]
+    t = funnel.sweep(theta_right=[45, 55], theta_left=40, samples=40)
+    assert t["theta_right"].tolist() == [45.0, 55.0]
+    assert np.all(t["theta_left"] == 40.0)
+
+
+def test_bad_geometries_name_the_key_and_the_rule(tmp_path):
+    with pytest.raises(ValueError, match="geometry left segment 0-1"):
+        funnel.simulate(release=0.0, geometry={"mirror": True,
+                                               "left": {"vertices": [[-1, 1], [-1.5, 0.5], [-0.1, 0]]}})
+    with pytest.raises(ValueError, match="unknown key 'left.vertice'"):
+        funnel.simulate(release=0.0, geometry={"mirror": True, "left": {"vertice": [[-1, 1], [0, 0]]}})
+    with pytest.raises(ValueError, match="no such file|No such file"):
+        funnel.simulate(release=0.0, geometry=tmp_path / "missing.toml")
+    with pytest.raises(TypeError):
+        funnel.simulate(release=0.0, geometry=3)
+    with pytest.raises(ValueError, match="spout-length"):
+        funnel.simulate(release=0.0, geometry=HOPPER, spout_length=0.1)
+
+
+def test_a_trajectory_plot_draws_the_profile(tmp_path):
+    from funnel.trajectory import plot_trajectory, simulate_for_plot
+    result, g = simulate_for_plot(0.3, geometry=str(LINED))
+    fig = plot_trajectory(result, g)
+    ax = fig.axes[0]
+    xs = np.concatenate([line.get_xdata() for line in ax.lines])
+    assert np.isclose(xs, 0.35).any()  # the ledge's inner end is drawn
