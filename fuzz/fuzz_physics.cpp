@@ -25,6 +25,7 @@
 #include "funnel/audit.hpp"
 #include "funnel/edge_contact.hpp"
 #include "funnel/engine.hpp"
+#include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/observables.hpp"
 #include "funnel/wear.hpp"
@@ -168,7 +169,10 @@ void check_edge_contact(FuzzedDataProvider& f) {
   require(std::fabs(dist - m.radius) <= 1e-12 * m.radius, "edge_contact: end off the circle", dist, m.radius);
   const double k0 = funnel::energy(s, m.kappa, m.radius);
   require(r.energy_lost >= -1e-12 * std::fmax(1.0, std::fabs(k0)), "edge_contact: energy gained", r.energy_lost);
-  require(std::fabs(r.tangential_impulse) <= m.mu * r.normal_impulse * (1.0 + 1e-9) + 1e-300 ||
+  // The impulses are quadratures whose rounding floor is ~eps (1 + mu) times the duration (the
+  // forces are O(1 + mu)): a contact that ends at once has impulses at that floor (found by the fuzzer).
+  require(std::fabs(r.tangential_impulse) <=
+                  m.mu * r.normal_impulse * (1.0 + 1e-9) + 1e-12 * (1.0 + m.mu) * r.duration + 1e-300 ||
               r.last_regime == funnel::Regime::Rolling || r.first_regime == funnel::Regime::Rolling,
           "edge_contact: friction outside the Coulomb cone", r.tangential_impulse, r.normal_impulse);
   if (r.exit == funnel::EdgeExit::TakeOff) {
@@ -190,6 +194,11 @@ bool pick_params(FuzzedDataProvider& f, Params& p) {
   p.gap = f.ConsumeBool() ? 0.0 : 2.0 * p.radius * (1.0 + log_uniform(f, -12.0, 4.0));
   p.t_max = log_uniform(f, -3.0, 3.0);
   p.max_collisions = f.ConsumeIntegralInRange<std::int64_t>(1, 20000);
+  if (f.ConsumeBool()) {  // any 2D funnel's shortcuts: an asymmetric V, a spout
+    if (f.ConsumeBool()) p.theta_left = pick_theta(f);
+    if (f.ConsumeBool()) p.theta_right = pick_theta(f);
+    if (p.gap != 0.0 && f.ConsumeBool()) p.spout_length = log_uniform(f, -6.0, 1.0);
+  }
   if (f.ConsumeBool()) {  // a release of the designer's: height, velocity and spin
     p.release_height = log_uniform(f, -3.0, 1.0);
     p.release_u = uniform(f, -1.0, 1.0) * log_uniform(f, -6.0, 1.0);
@@ -199,8 +208,11 @@ bool pick_params(FuzzedDataProvider& f, Params& p) {
   return !funnel::validate(p);
 }
 
-void check_trajectory(const Params& p, const Geometry& g, const State& release, const Trajectory& t,
+void check_trajectory(const Params& p, const funnel::Funnel& fn, const State& release, const Trajectory& t,
                       const std::vector<funnel::Event>& events, const funnel::Wear& wear) {
+  // The V's own numbers (for an asymmetric V or a spout only what holds for any funnel is checked).
+  const Geometry g = funnel::make_geometry(p);
+  const bool plain = p.plain_v();
   require(t.status == Status::Exited || t.status == Status::Rest || t.status == Status::Trapped, "bad status");
   require(std::isfinite(t.duration) && std::isfinite(t.impulse) && std::isfinite(t.normal_impulse) &&
               std::isfinite(t.energy_loss) && std::isfinite(t.energy_loss_events) &&
@@ -214,14 +226,14 @@ void check_trajectory(const Params& p, const Geometry& g, const State& release, 
           "collision counts inconsistent");
   require(t.normal_impulse >= 0.0 && t.impulse >= t.normal_impulse * (1.0 - 1e-12), "impulses inconsistent",
           t.impulse, t.normal_impulse);
-  if (g.closed) require(t.status != Status::Exited, "closed funnel exited");
-  if (!g.closed) require(t.status != Status::Rest, "open funnel at rest");
+  if (fn.closed) require(t.status != Status::Exited, "closed funnel exited");
+  if (!fn.closed) require(t.status != Status::Rest, "open funnel at rest");
   // The Zeno guard should never fire (in a closed funnel a pile-up of events at the vertex is
   // rest); trapped is otherwise the time or the collision cap. The exception is a resolution
   // limit, not a bug: in a slot a few ulps of the clock wider than the sphere (d - 2a below
   // ~1e-12, e.g. d = 2a (1 + 1e-12) with a = 1e-6) it bounces between the edges faster than
   // the clock (|t| ~ 1, ulp 2e-16) can tell the collisions apart.
-  const double slot = g.half_gap - g.radius;
+  const double slot = fn.closed ? 1.0 : 0.5 * p.gap - p.radius;
   require(!t.stalled || slot < 1e-12 * std::fmax(1.0, t.duration), "Zeno guard fired", t.duration, slot);
   if (t.status == Status::Trapped && !t.stalled) {
     require(t.duration == p.t_max || t.collisions == p.max_collisions, "trapped before the caps", t.duration,
@@ -229,18 +241,18 @@ void check_trajectory(const Params& p, const Geometry& g, const State& release, 
   }
 
   // Energies are of order max(1, |y|): the potential energy is measured from the vertex.
-  const double scale = std::fmax(1.0, std::fmax(std::fabs(g.y_bottom), std::fabs(g.y_release)));
+  const double scale = std::fmax(1.0, std::fmax(std::fabs(fn.y_exit), std::fabs(fn.y_release)));
   require(t.energy_loss >= -1e-9 * scale, "energy increased", t.energy_loss, scale);
   require(std::fabs(t.energy_loss - t.energy_loss_events) <= 1e-9 * scale,
           "energy loss != sum of the events' losses", t.energy_loss, t.energy_loss_events);
 
   const State& s = t.final_state;
   const double e0 = funnel::energy(release, p.inertia, p.radius);
-  const double tol = 1e-9 * std::fmax(std::fmax(scale, std::fabs(e0)), g.half_width);
+  const double tol = 1e-9 * std::fmax(std::fmax(scale, std::fabs(e0)), fn.half_width);
   require(s.r.y <= e0 + tol, "final state above the height its energy allows", s.r.y, e0);
   // Every free flight, rebuilt from the event log, stays clear of the faces and the edges, and
   // every exit is between the edges (docs/model.md §5b).
-  const funnel::FlightAudit audit = funnel::audit_flights(g, release, events);
+  const funnel::FlightAudit audit = funnel::audit_flights(fn, release, events);
   require(audit.edge_overlaps == 0, "a flight came closer than a to an edge point", audit.min_edge_distance);
   require(audit.face_crossings == 0, "a flight went behind a face", audit.max_face_depth);
   require(audit.exits_outside == 0, "an exit outside the gap");
@@ -256,12 +268,14 @@ void check_trajectory(const Params& p, const Geometry& g, const State& release, 
   require(std::fabs(wear_normal - t.normal_impulse) <= 1e-9 * std::fmax(1.0, t.normal_impulse),
           "wear normal impulse != normal impulse", wear_normal, t.normal_impulse);
   if (t.status == Status::Exited) {
-    require(s.r.y == g.y_bottom, "exited off the exit level", s.r.y, g.y_bottom);
-    require(std::fabs(s.r.x) <= g.half_gap - g.radius * (1.0 - 1e-9), "exited outside the gap", s.r.x, g.half_gap);
+    require(s.r.y == fn.y_exit, "exited off the exit level", s.r.y, fn.y_exit);
+    require(std::fabs(s.r.x) <= 0.5 * p.gap - p.radius * (1.0 - 1e-9), "exited outside the gap", s.r.x, p.gap);
     // The exit state balances the energy.
     const double at_exit = funnel::energy(t.exit_state, p.inertia, p.radius);
     require(std::fabs(at_exit - (e0 - t.energy_loss)) <= 1e-9 * std::fmax(1.0, std::fabs(e0)),
             "exit state does not balance the energy", at_exit, e0 - t.energy_loss);
+  } else if (!plain) {
+    // an asymmetric V or a spout: the audit above covers the walls
   } else if (t.status == Status::Rest) {
     // At the vertex: exactly after a sustained contact, else within the energy eps_rest above it.
     require(s.r.y >= -tol && s.r.y <= p.eps_rest + tol, "rest away from the vertex", s.r.x, s.r.y);
@@ -306,11 +320,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::snprintf(context, sizeof context,
                 "--theta %.17g --e %.17g --mu %.17g --beta0 %.17g --inertia %.17g --radius %.17g --gap %.17g "
                 "--t-max %.17g --max-collisions %lld --release %.17g --release-height %.17g --release-u %.17g "
-                "--release-v %.17g --release-spin %.17g",
+                "--release-v %.17g --release-spin %.17g --theta-left %.17g --theta-right %.17g --spout-length %.17g",
                 p.theta, p.e, p.mu, p.beta0, p.inertia, p.radius, p.gap, p.t_max,
                 static_cast<long long>(p.max_collisions), fraction, p.release_height, p.release_u, p.release_v,
-                p.release_spin);
-  const Geometry g = funnel::make_geometry(p);
+                p.release_spin, p.left_angle(), p.right_angle(), p.spout_length);
+  const funnel::Funnel g = funnel::make_funnel(p);
   funnel::EventLog log;
   funnel::Wear wear = funnel::Wear::make(g, 7);
   const Trajectory t = funnel::simulate_release(p, g, fraction, &log, &wear);
@@ -320,6 +334,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Params mirror = p;
   mirror.release_u = 0.0 - p.release_u;
   mirror.release_spin = 0.0 - p.release_spin;
-  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, g, -fraction));
+  // The mirror funnel of an asymmetric V swaps its walls' angles.
+  mirror.theta_left = p.theta_right;
+  mirror.theta_right = p.theta_left;
+  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, funnel::make_funnel(mirror), -fraction));
   return 0;
 }

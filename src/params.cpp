@@ -142,7 +142,7 @@ std::optional<ParamError> validate(const Params& params) {
   }
   for (const auto& [name, value] : {std::pair<const char*, double>{"theta-left", params.theta_left},
                                     {"theta-right", params.theta_right}}) {
-    if (value != Params::unset && !(value > 0.0 && value < 90.0)) return error(name, value);
+    if (!Params::is_unset(value) && !(value > 0.0 && value < 90.0)) return error(name, value);
   }
   if (!(params.spout_length >= 0.0 && std::isfinite(params.spout_length))) {
     return error("spout-length", params.spout_length);
@@ -152,10 +152,10 @@ std::optional<ParamError> validate(const Params& params) {
     err.range = "spout-length = 0 in a closed funnel (gap = 0): a spout hangs below an open outlet";
     return err;
   }
-  if (params.profile && (params.theta_left != Params::unset || params.theta_right != Params::unset ||
+  if (params.profile && (!Params::is_unset(params.theta_left) || !Params::is_unset(params.theta_right) ||
                          params.spout_length != 0.0)) {
-    const char* name = params.theta_left != Params::unset    ? "theta-left"
-                       : params.theta_right != Params::unset ? "theta-right"
+    const char* name = !Params::is_unset(params.theta_left)    ? "theta-left"
+                       : !Params::is_unset(params.theta_right) ? "theta-right"
                                                               : "spout-length";
     ParamError err = error(name, find_parameter(name)->get(params));
     err.range = "not with a geometry file (the file defines the walls)";

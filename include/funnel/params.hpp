@@ -1,7 +1,9 @@
 // Model parameters (docs/model.md §1), their one table and their validation.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -37,10 +39,12 @@ struct Params {
   std::shared_ptr<const ProfileSpec> profile;
 
   /// Marks theta-left/theta-right as "the same as theta".
-  static constexpr double unset = -1.0;
+  /// NaN: no value can be given as NaN, so every value set (valid or not) reads back as itself.
+  static constexpr double unset = std::numeric_limits<double>::quiet_NaN();
+  static bool is_unset(double angle) { return std::isnan(angle); }
   /// The left and right wall angles in degrees (theta where unset).
-  double left_angle() const { return theta_left == unset ? theta : theta_left; }
-  double right_angle() const { return theta_right == unset ? theta : theta_right; }
+  double left_angle() const { return is_unset(theta_left) ? theta : theta_left; }
+  double right_angle() const { return is_unset(theta_right) ? theta : theta_right; }
   /// True for the paper's symmetric V (no per-side angle, no spout, no profile).
   bool plain_v() const { return left_angle() == theta && right_angle() == theta && spout_length == 0.0 && !profile; }
 };

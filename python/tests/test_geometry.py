@@ -44,7 +44,8 @@ def test_geometry_describes_the_walls_for_drawing():
     assert g["y_exit"] == -0.365
     v = funnel.geometry(theta_left=40, theta_right=50, spout_length=0.2)
     assert len(v["walls"]["left"]) == 3 and not v["symmetric"]
-    assert v["y_exit"] == pytest.approx(v["y_bottom"] - 0.2, abs=1e-15)
+    assert v["walls"]["left"][-1][1] == v["y_exit"]  # the spout's lower end
+    assert v["walls"]["left"][-2][1] - v["y_exit"] == pytest.approx(0.2, abs=1e-15)
 
 
 def test_sweeps_take_a_geometry_and_the_shortcuts():
