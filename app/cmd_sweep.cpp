@@ -18,6 +18,7 @@
 #include "commands.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/version.hpp"
+#include "mpi_run.hpp"
 #include "output.hpp"
 #include "progress.hpp"
 #include "sweep_config.hpp"
@@ -243,7 +244,7 @@ struct SweepCommand {
       }
       int append_error = 0;
       ProgressBar bar("funnel sweep", true);
-      run_sweep(
+      distributed_sweep(
           todo, options, [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); },
           [&](std::size_t k, const EnsembleResult& r) {
             const std::size_t i = todo_index[k];

@@ -1,0 +1,407 @@
+// MPI runs (docs/cluster.md): rank 0 deals units of ensemble chunks to the ranks that ask and reduces them in chunk order.
+#include "mpi_run.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <future>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <type_traits>
+#include <utility>
+
+namespace funnel::cli {
+
+namespace {
+
+bool mpi_on = false;
+int rank_ = 0;
+int size_ = 1;
+
+/// Messages between rank 0 and the others. Rank 0 sends Job (the points and options of a
+/// run_sweep), then answers every Result with the next Unit (an empty unit ends the job), and
+/// at the end Stop (with its exit code). A rank sends an empty Result to ask for its first unit.
+enum Tag : int { Job = 1, Unit = 2, Result = 3, Stop = 4 };
+
+/// True when an MPI launcher started this process (OpenMPI, PMIx, PMI-1/2 as used by MPICH,
+/// Intel MPI and SLURM's srun, MVAPICH).
+bool launched_by_mpi() {
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "MV2_COMM_WORLD_SIZE"}) {
+    if (std::getenv(var) != nullptr) return true;
+  }
+  return false;
+}
+
+// ---- Bytes: the messages are the same binary on every rank, so plain values travel as bytes ----
+
+class Writer {
+ public:
+  template <class T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const char*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  template <class T>
+  void put_vector(const std::vector<T>& values) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    put(static_cast<std::uint64_t>(values.size()));
+    const auto* p = reinterpret_cast<const char*>(values.data());
+    bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(T));
+  }
+  std::vector<char>& bytes() { return bytes_; }
+
+ private:
+  std::vector<char> bytes_;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::vector<char>& bytes) : p_(bytes.data()), end_(bytes.data() + bytes.size()) {}
+  template <class T>
+  T get() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    T value;
+    take(&value, sizeof(T));
+    return value;
+  }
+  /// True when every byte has been read.
+  bool done() const { return p_ == end_; }
+  template <class T>
+  std::vector<T> get_vector() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::vector<T> values(static_cast<std::size_t>(get<std::uint64_t>()));
+    take(values.data(), values.size() * sizeof(T));
+    return values;
+  }
+
+ private:
+  void take(void* out, std::size_t n) {
+    if (static_cast<std::size_t>(end_ - p_) < n) throw std::runtime_error("MPI message shorter than expected");
+    std::memcpy(out, p_, n);
+    p_ += n;
+  }
+  const char* p_;
+  const char* end_;
+};
+
+void put_chunk(Writer& w, const ChunkStats& c) {
+  w.put(c.acc);
+  w.put(c.exited);
+  w.put(c.rest);
+  w.put(c.trapped);
+  w.put(c.total_collisions);
+  w.put(c.simulated_collisions);
+  w.put(c.wear.bins);
+  w.put(c.wear.bin_width);
+  for (const WallWear& wall : c.wear.walls) {
+    w.put_vector(wall.collisions);
+    w.put_vector(wall.normal_impulse);
+    w.put_vector(wall.impulse);
+    w.put(wall.edge_collisions);
+    w.put(wall.edge_normal_impulse);
+    w.put(wall.edge_impulse);
+  }
+  w.put_vector(c.samples);
+}
+
+ChunkStats get_chunk(Reader& r) {
+  ChunkStats c;
+  c.acc = r.get<decltype(c.acc)>();
+  c.exited = r.get<std::int64_t>();
+  c.rest = r.get<std::int64_t>();
+  c.trapped = r.get<std::int64_t>();
+  c.total_collisions = r.get<std::int64_t>();
+  c.simulated_collisions = r.get<std::int64_t>();
+  c.wear.bins = r.get<int>();
+  c.wear.bin_width = r.get<double>();
+  for (WallWear& wall : c.wear.walls) {
+    wall.collisions = r.get_vector<double>();
+    wall.normal_impulse = r.get_vector<double>();
+    wall.impulse = r.get_vector<double>();
+    wall.edge_collisions = r.get<double>();
+    wall.edge_normal_impulse = r.get<double>();
+    wall.edge_impulse = r.get<double>();
+  }
+  c.samples = r.get_vector<Sample>();
+  return c;
+}
+
+// ---- Point-to-point messages, waited for by polling: a waiting rank sleeps instead of spinning ----
+
+constexpr auto poll_interval = std::chrono::microseconds(500);
+
+void send(int to, Tag tag, std::vector<char>& bytes) {
+  if (bytes.size() > static_cast<std::size_t>(INT_MAX)) {
+    throw std::runtime_error("MPI message of " + std::to_string(bytes.size()) +
+                             " bytes is over 2 GB: use fewer samples per point with --per-sample");
+  }
+  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD);
+}
+
+void send_empty(int to, Tag tag) {
+  std::vector<char> none;
+  send(to, tag, none);
+}
+
+struct Message {
+  int from = 0;
+  int tag = 0;
+  std::vector<char> bytes;
+};
+
+/// The next message from `from` (or any rank), if one has arrived.
+bool try_receive(int from, Message& m) {
+  int arrived = 0;
+  MPI_Status status;
+  MPI_Iprobe(from, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status);
+  if (arrived == 0) return false;
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  m.from = status.MPI_SOURCE;
+  m.tag = status.MPI_TAG;
+  m.bytes.resize(static_cast<std::size_t>(count));
+  MPI_Recv(m.bytes.data(), count, MPI_BYTE, m.from, m.tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return true;
+}
+
+Message receive(int from) {
+  Message m;
+  while (!try_receive(from, m)) std::this_thread::sleep_for(poll_interval);
+  return m;
+}
+
+// ---- The work: tasks t = point * chunks + chunk, dealt as units [first, last) of consecutive tasks ----
+
+/// The (point, chunk) ids of the tasks [first, last).
+std::vector<ChunkId> task_ids(std::int64_t first, std::int64_t last, std::int64_t chunks) {
+  std::vector<ChunkId> ids;
+  for (std::int64_t t = first; t < last; ++t) ids.push_back({static_cast<std::size_t>(t / chunks), t % chunks});
+  return ids;
+}
+
+/// A rank's answer to a unit: per point, the chunks computed; those starting at chunk 0 folded
+/// into one prefix (fold_chunk), which is what rank 0's reduction starts with anyway.
+std::vector<char> encode_result(const std::vector<ChunkId>& ids, std::vector<ChunkStats> stats) {
+  Writer w;
+  for (std::size_t i = 0; i < ids.size();) {
+    std::size_t j = i;
+    while (j < ids.size() && ids[j].point == ids[i].point) ++j;
+    const bool folded = ids[i].chunk == 0;
+    w.put(static_cast<std::uint64_t>(ids[i].point));
+    w.put(ids[i].chunk);
+    w.put(static_cast<std::int64_t>(j - i));
+    w.put(static_cast<char>(folded));
+    if (folded) {
+      ChunkStats prefix;
+      for (std::size_t k = i; k < j; ++k) fold_chunk(prefix, std::move(stats[k]));
+      put_chunk(w, prefix);
+    } else {
+      for (std::size_t k = i; k < j; ++k) put_chunk(w, stats[k]);
+    }
+    i = j;
+  }
+  return std::move(w.bytes());
+}
+
+/// Rank 0's side of one distributed run_sweep: the chunks back so far, reduced per point.
+class Assembly {
+ public:
+  Assembly(const std::vector<Params>& points, const EnsembleOptions& options, const Progress& progress,
+           const PointDone& point_done)
+      : points_(points), options_(options), progress_(progress), point_done_(point_done),
+        chunks_(chunk_count(options.samples)), tasks_(static_cast<std::int64_t>(points.size()) * chunks_),
+        results_(points.size()), parts_(points.size()), prefix_(points.size(), 0),
+        pending_(points.size(), chunks_) {}
+
+  std::int64_t chunks() const { return chunks_; }
+  std::int64_t tasks() const { return tasks_; }
+  bool complete() const { return finished_ == tasks_; }
+  std::vector<EnsembleResult> take_results() { return std::move(results_); }
+
+  /// Chunks `first` .. `first + count - 1` of `point`; with `folded`, `stats` is one fold of them from chunk 0.
+  void add(std::size_t point, std::int64_t first, std::int64_t count, bool folded, std::vector<ChunkStats> stats) {
+    std::vector<ChunkStats>& parts = parts_[point];
+    if (parts.empty()) parts.resize(static_cast<std::size_t>(chunks_));
+    if (folded) {
+      parts[0] = std::move(stats.front());
+      prefix_[point] = count;
+    } else {
+      for (std::int64_t k = 0; k < count; ++k) parts[static_cast<std::size_t>(first + k)] = std::move(stats[static_cast<std::size_t>(k)]);
+    }
+    pending_[point] -= count;
+    finished_ += count;
+    if (pending_[point] == 0) {
+      // reduce_chunks takes a folded prefix in place of its chunks: drop the slots it covers.
+      if (prefix_[point] > 1) parts.erase(parts.begin() + 1, parts.begin() + prefix_[point]);
+      results_[point] = reduce_chunks(points_[point], options_, std::move(parts));
+      parts = {};
+      if (point_done_) point_done_(point, results_[point]);
+    }
+    if (progress_) progress_(finished_, tasks_);
+  }
+
+  /// A unit computed here: one chunk per id.
+  void add_local(const std::vector<ChunkId>& ids, std::vector<ChunkStats> stats) {
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      std::vector<ChunkStats> one;
+      one.push_back(std::move(stats[i]));
+      add(ids[i].point, ids[i].chunk, 1, false, std::move(one));
+    }
+  }
+
+  /// A unit computed by another rank (encode_result).
+  void add_message(const std::vector<char>& bytes) {
+    Reader r(bytes);
+    while (!r.done()) {
+      const auto point = static_cast<std::size_t>(r.get<std::uint64_t>());
+      const auto first = r.get<std::int64_t>();
+      const auto count = r.get<std::int64_t>();
+      const bool folded = r.get<char>() != 0;
+      if (point >= points_.size() || first < 0 || count < 1 || first + count > chunks_) {
+        throw std::runtime_error("MPI message with an invalid chunk range");
+      }
+      std::vector<ChunkStats> stats;
+      for (std::int64_t k = 0; k < (folded ? 1 : count); ++k) stats.push_back(get_chunk(r));
+      add(point, first, count, folded, std::move(stats));
+    }
+  }
+
+ private:
+  const std::vector<Params>& points_;
+  const EnsembleOptions& options_;
+  const Progress& progress_;
+  const PointDone& point_done_;
+  std::int64_t chunks_;
+  std::int64_t tasks_;
+  std::int64_t finished_ = 0;
+  std::vector<EnsembleResult> results_;
+  std::vector<std::vector<ChunkStats>> parts_;  ///< chunks of the points in progress
+  std::vector<std::int64_t> prefix_;            ///< chunks folded into parts_[p][0], when > 0
+  std::vector<std::int64_t> pending_;           ///< chunks not yet back, per point
+};
+
+}  // namespace
+
+MpiSession::MpiSession(int& argc, char**& argv) {
+  if (!launched_by_mpi()) return;
+  int provided = 0;
+  // Only the main thread calls MPI; rank 0 computes its own units on another thread.
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  mpi_on = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+MpiSession::~MpiSession() {
+  if (mpi_on) MPI_Finalize();
+}
+
+int MpiSession::serve() {
+  for (;;) {
+    Message m = receive(0);
+    if (m.tag == Stop) return Reader(m.bytes).get<int>();
+    if (m.tag != Job) continue;
+    Reader job(m.bytes);
+    EnsembleOptions options = job.get<EnsembleOptions>();
+    options.cancel = nullptr;  // a pointer into rank 0's memory
+    const std::vector<Params> points = job.get_vector<Params>();
+    const std::int64_t chunks = chunk_count(options.samples);
+    send_empty(0, Result);
+    for (;;) {
+      m = receive(0);
+      if (m.tag == Stop) return Reader(m.bytes).get<int>();
+      Reader unit(m.bytes);
+      const auto first = unit.get<std::int64_t>();
+      const auto last = unit.get<std::int64_t>();
+      if (first == last) break;  // the job is done
+      const std::vector<ChunkId> ids = task_ids(first, last, chunks);
+      std::vector<char> bytes = encode_result(ids, run_chunks(points, options, ids));
+      send(0, Result, bytes);
+    }
+  }
+}
+
+void MpiSession::finish(int code) {
+  if (!mpi_on) return;
+  for (int r = 1; r < size_; ++r) {
+    Writer w;
+    w.put(code);
+    send(r, Stop, w.bytes());
+  }
+}
+
+int mpi_rank() { return rank_; }
+int mpi_size() { return size_; }
+
+std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
+                                              const Progress& progress, const PointDone& point_done) {
+  if (size_ == 1) return run_sweep(points, options, progress, point_done);
+  static_assert(std::is_trivially_copyable_v<EnsembleOptions> && std::is_trivially_copyable_v<Params>);
+  Assembly assembly(points, options, progress, point_done);
+  {
+    Writer w;
+    w.put(options);
+    w.put_vector(points);
+    for (int r = 1; r < size_; ++r) send(r, Job, w.bytes());
+  }
+  // Unit size: about four units per rank, at least one task per thread, at most a point's chunks
+  // (or four per thread), shrinking towards the end so that the ranks finish together.
+  const std::int64_t tasks = assembly.tasks();
+  const std::int64_t threads = resolve_threads(options.threads);
+  const std::int64_t ranks = size_;
+  const std::int64_t unit_max =
+      std::max(threads, std::min((tasks + 4 * ranks - 1) / (4 * ranks), std::max(assembly.chunks(), 4 * threads)));
+  std::int64_t next = 0;
+  auto deal = [&] {
+    const std::int64_t left = tasks - next;
+    const std::int64_t size = std::min({left, unit_max, std::max(threads, (left + 2 * ranks - 1) / (2 * ranks))});
+    const std::pair<std::int64_t, std::int64_t> unit{next, next + size};
+    next += size;
+    return unit;
+  };
+
+  // Rank 0 computes units too, on a second thread; this thread only talks and reduces.
+  std::future<std::vector<ChunkStats>> local;
+  std::vector<ChunkId> local_ids;
+  int released = 0;  // ranks told that the job is done
+  while (!assembly.complete() || released < size_ - 1) {
+    bool busy = false;
+    if (local.valid() && local.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+      assembly.add_local(local_ids, local.get());
+      busy = true;
+    }
+    if (!local.valid() && next < tasks) {
+      const auto [first, last] = deal();
+      local_ids = task_ids(first, last, assembly.chunks());
+      local = std::async(std::launch::async, [&points, &options, ids = local_ids] { return run_chunks(points, options, ids); });
+    }
+    Message m;
+    if (try_receive(MPI_ANY_SOURCE, m) && m.tag == Result) {
+      assembly.add_message(m.bytes);
+      Writer w;
+      const auto [first, last] = next < tasks ? deal() : std::pair<std::int64_t, std::int64_t>{0, 0};
+      w.put(first);
+      w.put(last);
+      send(m.from, Unit, w.bytes());
+      released += first == last;
+      busy = true;
+    }
+    if (!busy) {
+      if (local.valid()) {
+        local.wait_for(poll_interval);
+      } else {
+        std::this_thread::sleep_for(poll_interval);
+      }
+    }
+  }
+  return assembly.take_results();
+}
+
+}  // namespace funnel::cli
