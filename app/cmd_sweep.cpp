@@ -229,9 +229,12 @@ struct SweepCommand {
     {
       const InterruptNotice notice =
           target.regular()
-              ? InterruptNotice("\nfunnel sweep: interrupted; ",
+              ? InterruptNotice(mpi_size() > 1 ? "\nfunnel sweep: stopped (interrupted, or a rank of this MPI run died: "
+                                                 "see mpirun's note); "
+                                               : "\nfunnel sweep: interrupted; ",
                                 " of " + total + " points are saved in '" + partial +
-                                    "'.\nTo continue without recomputing them, run the same command with --resume:\n  " +
+                                    "'.\nTo continue without recomputing them, run the same command with --resume" +
+                                    (mpi_size() > 1 ? " (under mpirun with any number of ranks, or alone)" : "") + ":\n  " +
                                     resume_command(command_line) + "\n")
               : InterruptNotice("\nfunnel sweep: interrupted after ",
                                 " of " + total + " points; nothing is saved: --out '" + out +
