@@ -33,6 +33,7 @@ int run_command_line(int argc, char** argv) {
   funnel::cli::add_retrace_command(app, command_line);
   funnel::cli::add_paper_command(app, command_line);
   funnel::cli::add_bench_command(app, command_line);
+  for (const char* name : {"sweep", "ensemble", "paper"}) app.get_subcommand(name)->footer(funnel::cli::mpi_help());
 
   try {
     app.parse(argc, argv);

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <climits>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <future>
@@ -36,6 +37,16 @@ bool launched_by_mpi() {
     if (std::getenv(var) != nullptr) return true;
   }
   return false;
+}
+
+/// A task of `srun -n K` (K > 1) that has no MPI connection would run the whole command again
+/// beside task 0, over the same output files: tasks other than 0 refuse (exit code 2).
+void refuse_unconnected_task() {
+  const char* task = std::getenv("SLURM_PROCID");
+  if (task == nullptr || std::string(task) == "0") return;
+  std::fprintf(stderr, "funnel: error: started as task %s of srun without an MPI connection: launch with "
+               "srun --mpi=pmix (or pmi2), or mpirun (docs/cluster.md)\n", task);
+  std::exit(2);
 }
 
 // ---- Bytes: the messages are the same binary on every rank, so plain values travel as bytes ----
@@ -136,6 +147,8 @@ ChunkStats get_chunk(Reader& r) {
 // ---- Point-to-point messages, waited for by polling: a waiting rank sleeps instead of spinning ----
 
 constexpr auto poll_interval = std::chrono::microseconds(500);
+/// Largest unit of work dealt at once, in samples per thread.
+constexpr std::int64_t max_unit_samples = 65536;
 
 void send(int to, Tag tag, std::vector<char>& bytes) {
   if (bytes.size() > static_cast<std::size_t>(INT_MAX)) {
@@ -290,7 +303,10 @@ class Assembly {
 }  // namespace
 
 MpiSession::MpiSession(int& argc, char**& argv) {
-  if (!launched_by_mpi()) return;
+  if (!launched_by_mpi()) {
+    refuse_unconnected_task();
+    return;
+  }
   int provided = 0;
   // Only the main thread calls MPI; rank 0 computes its own units on another thread.
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
@@ -313,17 +329,24 @@ int MpiSession::serve() {
     options.cancel = nullptr;  // a pointer into rank 0's memory
     const std::vector<Params> points = job.get_vector<Params>();
     const std::int64_t chunks = chunk_count(options.samples);
+    // Two requests in flight: the next unit is here before this one is done, so the rank never
+    // waits for rank 0. Each request is answered, in order; once with an empty unit, the rest
+    // are empty too.
+    int in_flight = 2;
     send_empty(0, Result);
-    for (;;) {
+    send_empty(0, Result);
+    while (in_flight > 0) {
       m = receive(0);
       if (m.tag == Stop) return Reader(m.bytes).get<int>();
+      --in_flight;
       Reader unit(m.bytes);
       const auto first = unit.get<std::int64_t>();
       const auto last = unit.get<std::int64_t>();
-      if (first == last) break;  // the job is done
+      if (first == last) continue;  // no work left
       const std::vector<ChunkId> ids = task_ids(first, last, chunks);
       std::vector<char> bytes = encode_result(ids, run_chunks(points, options, ids));
       send(0, Result, bytes);
+      ++in_flight;
     }
   }
 }
@@ -335,6 +358,12 @@ void MpiSession::finish(int code) {
     w.put(code);
     send(r, Stop, w.bytes());
   }
+}
+
+std::string mpi_help() {
+  return "Many processes: mpirun -np K funnel sweep|ensemble|paper ... deals grid points and chunks of ensembles "
+         "to K ranks (each with --threads threads); rank 0 writes every output, the same bytes as one process; "
+         "--resume works with any K (docs/cluster.md).";
 }
 
 int mpi_rank() { return rank_; }
@@ -351,13 +380,15 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
     w.put_vector(points);
     for (int r = 1; r < size_; ++r) send(r, Job, w.bytes());
   }
-  // Unit size: about four units per rank, at least one task per thread, at most a point's chunks
-  // (or four per thread), shrinking towards the end so that the ranks finish together.
+  // Unit size: about four units per rank, but at most 65 536 samples per thread (0.1 to 1 s of
+  // work: finished points reach the partial file steadily), at least one chunk per thread, and
+  // shrinking towards the end so that the ranks finish together.
   const std::int64_t tasks = assembly.tasks();
   const std::int64_t threads = resolve_threads(options.threads);
   const std::int64_t ranks = size_;
-  const std::int64_t unit_max =
-      std::max(threads, std::min((tasks + 4 * ranks - 1) / (4 * ranks), std::max(assembly.chunks(), 4 * threads)));
+  const std::int64_t per_chunk = std::max<std::int64_t>(1, options.samples / assembly.chunks());
+  const std::int64_t unit_max = std::max(
+      threads, std::min((tasks + 4 * ranks - 1) / (4 * ranks), (max_unit_samples * threads + per_chunk - 1) / per_chunk));
   std::int64_t next = 0;
   auto deal = [&] {
     const std::int64_t left = tasks - next;
@@ -370,8 +401,8 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
   // Rank 0 computes units too, on a second thread; this thread only talks and reduces.
   std::future<std::vector<ChunkStats>> local;
   std::vector<ChunkId> local_ids;
-  int released = 0;  // ranks told that the job is done
-  while (!assembly.complete() || released < size_ - 1) {
+  int released = 0;  // requests answered with an empty unit: two per rank end the job
+  while (!assembly.complete() || released < 2 * (size_ - 1)) {
     bool busy = false;
     if (local.valid() && local.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       assembly.add_local(local_ids, local.get());

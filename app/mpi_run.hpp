@@ -1,6 +1,7 @@
 // Runs over many processes with MPI (docs/cluster.md): rank 0 runs the command, deals the work and writes every output.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "funnel/ensemble.hpp"
@@ -32,6 +33,9 @@ class MpiSession {
 int mpi_rank();
 /// Number of processes of the run (1 without MPI).
 int mpi_size();
+
+/// The `--help` note on running under mpirun (or on a build without MPI).
+std::string mpi_help();
 
 /// run_sweep over every rank, called on rank 0 (the other ranks are in MpiSession::serve):
 /// rank 0 sends the points and options to the others, then deals them units of consecutive
