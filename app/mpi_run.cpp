@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <future>
+#include <iterator>
+#include <list>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -25,9 +27,10 @@ bool mpi_on = false;
 int rank_ = 0;
 int size_ = 1;
 
-/// Messages between rank 0 and the others. Rank 0 sends Job (the points and options of a
-/// run_sweep), then answers every Result with the next Unit (an empty unit ends the job), and
-/// at the end Stop (with its exit code). A rank sends an empty Result to ask for its first unit.
+/// Messages between rank 0 and the others. Rank 0 sends Job (the options of a run_sweep), then
+/// answers every Result with the next Unit (a range of tasks with the parameters of its points;
+/// an empty unit: no work left), and at the end Stop (with its exit code). A rank asks for its
+/// first units with empty Results.
 enum Tag : int { Job = 1, Unit = 2, Result = 3, Stop = 4 };
 
 /// True when an MPI launcher started this process (OpenMPI, PMIx, PMI-1/2 as used by MPICH,
@@ -150,13 +153,47 @@ constexpr auto poll_interval = std::chrono::microseconds(500);
 /// Largest unit of work dealt at once, in samples per thread.
 constexpr std::int64_t max_unit_samples = 65536;
 
-void send(int to, Tag tag, std::vector<char>& bytes) {
+int byte_count(const std::vector<char>& bytes) {
   if (bytes.size() > static_cast<std::size_t>(INT_MAX)) {
     throw std::runtime_error("MPI message of " + std::to_string(bytes.size()) +
                              " bytes is over 2 GB: use fewer samples per point with --per-sample");
   }
-  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD);
+  return static_cast<int>(bytes.size());
 }
+
+/// Sends and returns when the message is on its way or received. Only the other ranks send
+/// this way: rank 0 never blocks in a send (its Outbox), so a big message to it always completes.
+void send(int to, Tag tag, std::vector<char>& bytes) {
+  MPI_Send(bytes.data(), byte_count(bytes), MPI_BYTE, to, tag, MPI_COMM_WORLD);
+}
+
+/// Rank 0's sends, non-blocking: a rank sending it a big result while rank 0 sends it a big
+/// unit would otherwise wait for each other forever.
+class Outbox {
+ public:
+  Outbox() = default;
+  Outbox(const Outbox&) = delete;
+  Outbox& operator=(const Outbox&) = delete;
+  ~Outbox() {
+    while (!empty()) std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  void post(int to, Tag tag, std::vector<char> bytes) {
+    auto& [buffer, request] = items_.emplace_back(std::move(bytes), MPI_REQUEST_NULL);
+    MPI_Isend(buffer.data(), byte_count(buffer), MPI_BYTE, to, tag, MPI_COMM_WORLD, &request);
+  }
+  /// True when every message posted has left; frees the buffers of those that have.
+  bool empty() {
+    for (auto it = items_.begin(); it != items_.end();) {
+      int done = 0;
+      MPI_Test(&it->second, &done, MPI_STATUS_IGNORE);
+      it = done != 0 ? items_.erase(it) : std::next(it);
+    }
+    return items_.empty();
+  }
+
+ private:
+  std::list<std::pair<std::vector<char>, MPI_Request>> items_;
+};
 
 void send_empty(int to, Tag tag) {
   std::vector<char> none;
@@ -319,15 +356,26 @@ MpiSession::~MpiSession() {
   if (mpi_on) MPI_Finalize();
 }
 
+namespace {
+
+/// A rank's end: rank 0's exit code, once every rank has it.
+int stopped(const Message& m) {
+  MPI_Request barrier;
+  MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
+  for (int done = 0; MPI_Test(&barrier, &done, MPI_STATUS_IGNORE), done == 0;) std::this_thread::sleep_for(poll_interval);
+  return Reader(m.bytes).get<int>();
+}
+
+}  // namespace
+
 int MpiSession::serve() {
   for (;;) {
     Message m = receive(0);
-    if (m.tag == Stop) return Reader(m.bytes).get<int>();
+    if (m.tag == Stop) return stopped(m);
     if (m.tag != Job) continue;
     Reader job(m.bytes);
     EnsembleOptions options = job.get<EnsembleOptions>();
     options.cancel = nullptr;  // a pointer into rank 0's memory
-    const std::vector<Params> points = job.get_vector<Params>();
     const std::int64_t chunks = chunk_count(options.samples);
     // Two requests in flight: the next unit is here before this one is done, so the rank never
     // waits for rank 0. Each request is answered, in order; once with an empty unit, the rest
@@ -337,14 +385,18 @@ int MpiSession::serve() {
     send_empty(0, Result);
     while (in_flight > 0) {
       m = receive(0);
-      if (m.tag == Stop) return Reader(m.bytes).get<int>();
+      if (m.tag == Stop) return stopped(m);
       --in_flight;
       Reader unit(m.bytes);
       const auto first = unit.get<std::int64_t>();
       const auto last = unit.get<std::int64_t>();
       if (first == last) continue;  // no work left
+      // The unit's points come with it (points first / chunks ...), indexed from 0 here.
+      const std::vector<Params> points = unit.get_vector<Params>();
       const std::vector<ChunkId> ids = task_ids(first, last, chunks);
-      std::vector<char> bytes = encode_result(ids, run_chunks(points, options, ids));
+      std::vector<ChunkId> local = ids;
+      for (ChunkId& id : local) id.point -= static_cast<std::size_t>(first / chunks);
+      std::vector<char> bytes = encode_result(ids, run_chunks(points, options, local));
       send(0, Result, bytes);
       ++in_flight;
     }
@@ -353,10 +405,21 @@ int MpiSession::serve() {
 
 void MpiSession::finish(int code) {
   if (!mpi_on) return;
-  for (int r = 1; r < size_; ++r) {
-    Writer w;
-    w.put(code);
-    send(r, Stop, w.bytes());
+  {
+    Outbox out;
+    for (int r = 1; r < size_; ++r) {
+      Writer w;
+      w.put(code);
+      out.post(r, Stop, std::move(w.bytes()));
+    }
+  }
+  // A rank may still be sending a result (rank 0 stopped in the middle of a job): receive and
+  // drop everything until every rank has its Stop.
+  MPI_Request barrier;
+  MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
+  for (int done = 0; MPI_Test(&barrier, &done, MPI_STATUS_IGNORE), done == 0;) {
+    Message m;
+    if (!try_receive(MPI_ANY_SOURCE, m)) std::this_thread::sleep_for(poll_interval);
   }
 }
 
@@ -374,11 +437,11 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
   if (size_ == 1) return run_sweep(points, options, progress, point_done);
   static_assert(std::is_trivially_copyable_v<EnsembleOptions> && std::is_trivially_copyable_v<Params>);
   Assembly assembly(points, options, progress, point_done);
-  {
+  Outbox out;
+  for (int r = 1; r < size_; ++r) {
     Writer w;
     w.put(options);
-    w.put_vector(points);
-    for (int r = 1; r < size_; ++r) send(r, Job, w.bytes());
+    out.post(r, Job, std::move(w.bytes()));
   }
   // Unit size: about four units per rank, but at most 65 536 samples per thread (0.1 to 1 s of
   // work: finished points reach the partial file steadily), at least one chunk per thread, and
@@ -420,10 +483,15 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
       const auto [first, last] = next < tasks ? deal() : std::pair<std::int64_t, std::int64_t>{0, 0};
       w.put(first);
       w.put(last);
-      send(m.from, Unit, w.bytes());
+      if (first < last) {
+        const auto begin = points.begin() + first / assembly.chunks();
+        w.put_vector(std::vector<Params>(begin, points.begin() + (last - 1) / assembly.chunks() + 1));
+      }
+      out.post(m.from, Unit, std::move(w.bytes()));
       released += first == last;
       busy = true;
     }
+    out.empty();  // frees the buffers of the units that have left
     if (!busy) {
       if (local.valid()) {
         local.wait_for(poll_interval);

@@ -38,9 +38,9 @@ int mpi_size();
 std::string mpi_help();
 
 /// run_sweep over every rank, called on rank 0 (the other ranks are in MpiSession::serve):
-/// rank 0 sends the points and options to the others, then deals them units of consecutive
-/// (point, chunk) tasks as they ask for more, computes units itself on a second thread, reduces
-/// each point in chunk order as soon as its chunks are back and calls `progress` and
+/// rank 0 sends the options to the others, then deals them units of consecutive (point, chunk)
+/// tasks, with their points, as they ask for more, computes units itself on a second thread,
+/// reduces each point in chunk order as soon as its chunks are back and calls `progress` and
 /// `point_done` as run_sweep does. The results are bit-identical to run_sweep's for any number
 /// of ranks and threads; with one rank it is run_sweep.
 std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
