@@ -89,6 +89,10 @@ TEST_F(Mpi, SweepEnsembleAndPaperGiveTheBytesOfOneProcessForAnyRanksAndThreads) 
       const std::string t = " --threads " + std::to_string(threads);
       const Result r = run(sweep + path("mpi.csv") + t, mpirun(np));
       ASSERT_EQ(r.code, 0) << r.output;
+      // Progress from the writing rank only: one summary line (stderr is not a terminal).
+      const std::string summary = "points computed in";
+      EXPECT_NE(r.output.find(summary), std::string::npos) << r.output;
+      EXPECT_EQ(r.output.find(summary), r.output.rfind(summary)) << r.output;
       EXPECT_EQ(read("mpi.csv"), read("one.csv")) << np << " ranks, " << threads << " threads";
     }
     ASSERT_EQ(run(line + path("mpi_line.json") + " --threads 1", mpirun(np)).code, 0);
