@@ -8,11 +8,13 @@
 namespace funnel::cli {
 
 MpiSession::MpiSession(int& /*argc*/, char**& /*argv*/) {
-  // A task of `srun -n K` other than task 0 would run the whole command again beside it, over
-  // the same output files.
-  if (const char* task = std::getenv("SLURM_PROCID"); task != nullptr && std::string(task) != "0") {
-    std::fprintf(stderr, "funnel: error: started as task %s of srun, but this funnel was built without MPI "
-                 "(FUNNEL_MPI=OFF): run one task (docs/cluster.md)\n", task);
+  // A process of `mpirun -np K` or `srun -n K` other than the first would run the whole command
+  // again beside it, over the same output files.
+  for (const char* var : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"}) {
+    const char* rank = std::getenv(var);
+    if (rank == nullptr || std::string(rank) == "0") continue;
+    std::fprintf(stderr, "funnel: error: started as process %s of mpirun or srun, but this funnel was built without "
+                 "MPI (FUNNEL_MPI=OFF): run one process (docs/cluster.md)\n", rank);
     std::exit(2);
   }
 }
