@@ -1,9 +1,11 @@
 // `funnel ensemble`: statistics of the observables over the release positions.
 #include <memory>
+#include <utility>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "funnel/ensemble.hpp"
+#include "mpi_run.hpp"
 #include "output.hpp"
 #include "progress.hpp"
 
@@ -43,8 +45,9 @@ struct EnsembleCommand {
     }
     check_writable(out);
     ProgressBar bar("ensemble");
-    const EnsembleResult r =
-        run_ensemble(params, options, [&bar](std::int64_t done, std::int64_t total) { bar.update(done, total); });
+    const EnsembleResult r = std::move(distributed_sweep({params}, options, [&bar](std::int64_t done, std::int64_t total) {
+                                         bar.update(done, total);
+                                       }).front());
 
     const std::vector<std::string> sample_columns = [] {
       std::vector<std::string> cols{"release", "u0", "v0"};

@@ -18,6 +18,7 @@
 #include "commands.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/version.hpp"
+#include "mpi_run.hpp"
 #include "output.hpp"
 #include "progress.hpp"
 #include "sweep_config.hpp"
@@ -228,9 +229,12 @@ struct SweepCommand {
     {
       const InterruptNotice notice =
           target.regular()
-              ? InterruptNotice("\nfunnel sweep: interrupted; ",
+              ? InterruptNotice(mpi_size() > 1 ? "\nfunnel sweep: stopped (interrupted, or a rank of this MPI run died: "
+                                                 "see mpirun's note); "
+                                               : "\nfunnel sweep: interrupted; ",
                                 " of " + total + " points are saved in '" + partial +
-                                    "'.\nTo continue without recomputing them, run the same command with --resume:\n  " +
+                                    "'.\nTo continue without recomputing them, run the same command with --resume" +
+                                    (mpi_size() > 1 ? " (under mpirun with any number of ranks, or alone)" : "") + ":\n  " +
                                     resume_command(command_line) + "\n")
               : InterruptNotice("\nfunnel sweep: interrupted after ",
                                 " of " + total + " points; nothing is saved: --out '" + out +
@@ -243,7 +247,7 @@ struct SweepCommand {
       }
       int append_error = 0;
       ProgressBar bar("funnel sweep", true);
-      run_sweep(
+      distributed_sweep(
           todo, options, [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); },
           [&](std::size_t k, const EnsembleResult& r) {
             const std::size_t i = todo_index[k];

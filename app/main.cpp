@@ -6,10 +6,14 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "mpi_run.hpp"
 #include "suggest.hpp"
 #include "funnel/version.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+/// Parses the command line and runs the subcommand; returns the exit code.
+int run_command_line(int argc, char** argv) {
   std::string command_line;
   for (int i = 0; i < argc; ++i) {
     if (i > 0) command_line += ' ';
@@ -29,6 +33,7 @@ int main(int argc, char** argv) {
   funnel::cli::add_retrace_command(app, command_line);
   funnel::cli::add_paper_command(app, command_line);
   funnel::cli::add_bench_command(app, command_line);
+  for (const char* name : {"sweep", "ensemble", "paper"}) app.get_subcommand(name)->footer(funnel::cli::mpi_help());
 
   try {
     app.parse(argc, argv);
@@ -53,4 +58,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Under mpirun only rank 0 runs the command; the others compute what it deals them and exit
+  // with its exit code (docs/cluster.md).
+  funnel::cli::MpiSession mpi(argc, argv);
+  if (funnel::cli::mpi_rank() != 0) return mpi.serve();
+  const int code = run_command_line(argc, argv);
+  mpi.finish(code);
+  return code;
 }

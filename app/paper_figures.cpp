@@ -13,6 +13,7 @@
 #include "funnel/engine.hpp"
 #include "funnel/orbit.hpp"
 #include "output.hpp"
+#include "mpi_run.hpp"
 #include "paper_designer.hpp"
 #include "paper_orbits.hpp"
 #include "paper_util.hpp"
@@ -157,10 +158,10 @@ FigureData release_scan(const FigureSpec& fig, int threads, const Progress& prog
     p.theta = fig.thetas[i];
     const auto n = static_cast<std::int64_t>(fig.thetas.size());
     const auto k = static_cast<std::int64_t>(i);
-    const EnsembleResult r = run_ensemble(p, {fig.samples, dist_of(fig.dists.front()), threads, true},
-                                          [&](std::int64_t d, std::int64_t t) {
-                                            if (progress) progress(k * t + d, n * t);
-                                          });
+    const EnsembleResult r = std::move(
+        distributed_sweep({p}, {fig.samples, dist_of(fig.dists.front()), threads, true}, [&](std::int64_t d, std::int64_t t) {
+          if (progress) progress(k * t + d, n * t);
+        }).front());
     const std::string panel(1, static_cast<char>('a' + i));
     for (const Sample& s : r.per_sample) {
       out.csv += csv_line({panel, number(p.theta), number(s.fraction), number(s.trajectory.duration),
@@ -354,7 +355,7 @@ void SweepCache::run(int threads, const Progress& progress) {
     for (const Entry* e : list) points.push_back(e->params);
     const EnsembleOptions opt{k.second, static_cast<ReleaseDist>(k.first), threads, false};
     const auto n = static_cast<std::int64_t>(list.size());
-    auto results = run_sweep(points, opt, [&](std::int64_t d, std::int64_t t) {
+    auto results = distributed_sweep(points, opt, [&](std::int64_t d, std::int64_t t) {
       if (progress) progress(done_points * t + d * n, total_points * t);
     });
     for (std::size_t i = 0; i < list.size(); ++i) {

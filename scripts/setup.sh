@@ -9,6 +9,7 @@ FUNNEL_PACKAGES=(
   libgtest-dev libbenchmark-dev
   python3-dev pybind11-dev python3-numpy python3-matplotlib python3-pytest python3-tqdm
   python3-pil chromium  # GIF animations (funnel.animate); the report's test in a headless browser
+  libopenmpi-dev openmpi-bin  # mpirun over many processes (docs/cluster.md); built without it when absent
   clang libclang-rt-14-dev libomp-14-dev llvm-14  # fuzz/: libFuzzer, OpenMP for clang, llvm-symbolizer
 )
 

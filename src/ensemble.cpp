@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <utility>
 
 #include "funnel/geometry.hpp"
 #include "funnel/random.hpp"
@@ -69,41 +71,36 @@ constexpr std::uint64_t stream_velocity_v = 2;
 constexpr std::uint64_t stream_gaussian = 16;  // + attempt: truncated normal x0/L
 constexpr int max_gaussian_attempts = 10000;
 
-/// Work units per ensemble: the unit of scheduling and of the fixed-order reduction. A fixed
-/// cap keeps the memory of an ensemble independent of N; the partition depends on N only, never
-/// on the thread count, so the reduction order (and every bit of the result) is fixed.
+/// Chunks per ensemble (chunk_count): the unit of scheduling and of the fixed-order reduction. A
+/// fixed cap keeps the memory of an ensemble independent of N; the partition depends on N only,
+/// never on the thread or process count, so the reduction order (and every bit) is fixed.
 constexpr std::int64_t max_chunks = 256;
 constexpr std::int64_t min_chunk = 16;
 
-/// Statistics of one block of samples.
-struct BlockStats {
-  std::array<Accumulator, observable_count> acc;
-  std::int64_t exited = 0, rest = 0, trapped = 0, total_collisions = 0, simulated_collisions = 0;
-  Wear wear;
-
-  void add(const Trajectory& t) {
-    for (const ObservableInfo& o : observables()) {
-      if (o.exited_only && t.status != Status::Exited) continue;
-      acc[static_cast<std::size_t>(o.id)].add(value(t, o.id));
-    }
-    exited += t.status == Status::Exited;
-    rest += t.status == Status::Rest;
-    trapped += t.status == Status::Trapped;
-    total_collisions += t.collisions;
+/// Adds one trajectory to a chunk's statistics.
+void add(ChunkStats& s, const Trajectory& t) {
+  for (const ObservableInfo& o : observables()) {
+    if (o.exited_only && t.status != Status::Exited) continue;
+    s.acc[static_cast<std::size_t>(o.id)].add(value(t, o.id));
   }
+  s.exited += t.status == Status::Exited;
+  s.rest += t.status == Status::Rest;
+  s.trapped += t.status == Status::Trapped;
+  s.total_collisions += t.collisions;
+}
 
-  void merge(const BlockStats& o) {
-    for (std::size_t i = 0; i < acc.size(); ++i) acc[i].merge(o.acc[i]);
-    exited += o.exited;
-    rest += o.rest;
-    trapped += o.trapped;
-    total_collisions += o.total_collisions;
-    simulated_collisions += o.simulated_collisions;
-    wear.merge(o.wear);
-  }
-};
+/// Merges chunk `o` into `s` (Chan's formula: the result depends on the order of merges).
+void merge(ChunkStats& s, const ChunkStats& o) {
+  for (std::size_t i = 0; i < s.acc.size(); ++i) s.acc[i].merge(o.acc[i]);
+  s.exited += o.exited;
+  s.rest += o.rest;
+  s.trapped += o.trapped;
+  s.total_collisions += o.total_collisions;
+  s.simulated_collisions += o.simulated_collisions;
+  s.wear.merge(o.wear);
+}
 
-EnsembleResult to_result(const BlockStats& s, std::int64_t samples) {
+EnsembleResult to_result(const ChunkStats& s, std::int64_t samples) {
   EnsembleResult r;
   r.samples = samples;
   for (std::size_t i = 0; i < s.acc.size(); ++i) r.stats[i] = summarize(s.acc[i]);
@@ -175,14 +172,115 @@ Trajectory mirrored(Trajectory t) {
   return t;
 }
 
+std::int64_t chunk_count(std::int64_t samples) {
+  return std::max<std::int64_t>(1, std::min(max_chunks, (samples + min_chunk - 1) / min_chunk));
+}
+
+namespace {
+
+/// Samples simulated: where the releases are symmetric only the first half and the middle one
+/// (the engine is exactly mirror symmetric and the line distribution's samples k and N-1-k are
+/// exact mirror images).
+std::int64_t unique_samples(bool halved, std::int64_t n) { return halved ? (n + 1) / 2 : n; }
+
+/// The simulated samples [first, last) of chunk `chunk`: a partition that depends on N (and on
+/// the mirror symmetry) only.
+std::pair<std::int64_t, std::int64_t> chunk_range(bool halved, std::int64_t n, std::int64_t chunk) {
+  const std::int64_t n_unique = unique_samples(halved, n);
+  const std::int64_t chunks = chunk_count(n);
+  return {chunk * n_unique / chunks, (chunk + 1) * n_unique / chunks};
+}
+
+/// One chunk, its samples in index order (the one computation behind run_chunk and run_sweep).
+ChunkStats compute_chunk(const Params& params, const Funnel& g, const EnsembleOptions& options, bool halved,
+                         std::int64_t chunk) {
+  const std::int64_t n = options.samples;
+  const auto [first, last] = chunk_range(halved, n, chunk);
+  ChunkStats stats;
+  Wear wear = Wear::make(g, options.wear_bins);
+  stats.wear = wear;
+  if (options.keep_samples) stats.samples.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, last - first)));
+  for (std::int64_t k = first; k < last; ++k) {
+    const double fraction = sample_fraction(options, k);
+    const State release = sample_release(params, g, options, k);
+    if (options.wear_bins > 0) wear = Wear::make(g, options.wear_bins);
+    const Trajectory t = simulate(params, g, release, nullptr, options.wear_bins > 0 ? &wear : nullptr);
+    const std::int64_t partner = halved ? n - 1 - k : k;
+    add(stats, t);
+    stats.simulated_collisions += t.collisions;
+    stats.wear.merge(wear);
+    if (partner != k) {
+      add(stats, mirrored(t));
+      stats.wear.merge(wear.mirrored());
+    }
+    if (options.keep_samples) stats.samples.push_back({fraction, release, t});
+  }
+  return stats;
+}
+
+}  // namespace
+
+ChunkStats run_chunk(const Params& params, const EnsembleOptions& options, std::int64_t chunk) {
+  return compute_chunk(params, make_funnel(params), options, mirror_symmetric(params, options), chunk);
+}
+
+std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const EnsembleOptions& options,
+                                   const std::vector<ChunkId>& ids) {
+  std::vector<ChunkStats> out(ids.size());
+  const auto n = static_cast<std::int64_t>(ids.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
+  for (std::int64_t i = 0; i < n; ++i) {
+    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
+    const ChunkId& id = ids[static_cast<std::size_t>(i)];
+    out[static_cast<std::size_t>(i)] = run_chunk(points[id.point], options, id.chunk);
+  }
+  return out;
+}
+
+void fold_chunk(ChunkStats& prefix, ChunkStats next) {
+  merge(prefix, next);
+  if (prefix.samples.empty()) {
+    prefix.samples = std::move(next.samples);
+  } else {
+    prefix.samples.insert(prefix.samples.end(), std::make_move_iterator(next.samples.begin()),
+                          std::make_move_iterator(next.samples.end()));
+  }
+}
+
+EnsembleResult reduce_chunks(const Params& params, const EnsembleOptions& options, std::vector<ChunkStats> chunks) {
+  const std::int64_t n = options.samples;
+  const bool halved = mirror_symmetric(params, options);
+  // Folded in chunk-index order: the same bits whatever computed the chunks, and in what order.
+  ChunkStats total;
+  for (ChunkStats& c : chunks) fold_chunk(total, std::move(c));
+  EnsembleResult r = to_result(total, n);
+  if (halved) {
+    // The samples come in exact mirror pairs (and the middle one, at x0 = 0, falls straight
+    // through): the mean of an observable that changes sign is exactly 0, where the running
+    // mean would leave rounding residues of ~1e-20.
+    for (const ObservableInfo& o : observables()) {
+      if (o.mirror_odd) r.stats[static_cast<std::size_t>(o.id)].mean = 0.0;
+    }
+  }
+  if (options.keep_samples) {
+    // The chunks cover the simulated samples 0, 1, ... contiguously, in order.
+    r.per_sample.resize(static_cast<std::size_t>(n));
+    const std::int64_t kept = std::min<std::int64_t>(static_cast<std::int64_t>(total.samples.size()), n);
+    for (std::int64_t k = 0; k < kept; ++k) {
+      Sample& s = total.samples[static_cast<std::size_t>(k)];
+      const std::int64_t partner = halved ? n - 1 - k : k;
+      if (partner != k) {
+        r.per_sample[static_cast<std::size_t>(partner)] = {-s.fraction, mirror_state(s.release), mirrored(s.trajectory)};
+      }
+      r.per_sample[static_cast<std::size_t>(k)] = std::move(s);
+    }
+  }
+  return r;
+}
+
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
                                       const Progress& progress, const PointDone& point_done) {
-  const std::int64_t n = options.samples;
   const std::int64_t n_points = static_cast<std::int64_t>(points.size());
-
-  // Per point: the engine is exactly mirror symmetric and the line distribution's samples k and
-  // N-1-k are exact mirror images, so where the releases are symmetric only the first half (and
-  // the middle one) is simulated.
   std::vector<Funnel> funnels;
   std::vector<char> mirror;
   funnels.reserve(points.size());
@@ -190,78 +288,30 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
     funnels.push_back(make_funnel(p));
     mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
   }
-  auto unique_of = [&](std::int64_t point) { return mirror[static_cast<std::size_t>(point)] ? (n + 1) / 2 : n; };
-  // The same partition for every point (that of the symmetric case when any point is).
-  const std::int64_t blocks_per_point = std::min(max_chunks, (n + min_chunk - 1) / min_chunk);
-  const std::int64_t n_tasks = n_points * blocks_per_point;
+  // The same partition for every point; a task is one chunk of one point.
+  const std::int64_t n_chunks = chunk_count(options.samples);
+  const std::int64_t n_tasks = n_points * n_chunks;
 
   std::vector<EnsembleResult> results(points.size());
-  if (options.keep_samples) {
-    for (auto& r : results) r.per_sample.resize(static_cast<std::size_t>(n));
-  }
-  std::vector<BlockStats> blocks(static_cast<std::size_t>(n_tasks));
-  std::vector<std::int64_t> pending(points.size(), blocks_per_point);  // chunks left per point
+  std::vector<std::vector<ChunkStats>> chunks(points.size());  // of the points in progress only
+  std::vector<std::int64_t> pending(points.size(), n_chunks);   // chunks left per point
   std::int64_t finished = 0;
-
-  // Reduces a point's chunks in index order: the same bits whatever the thread count.
-  auto reduce = [&](std::int64_t point) {
-    BlockStats total;
-    for (std::int64_t b = 0; b < blocks_per_point; ++b) {
-      total.merge(blocks[static_cast<std::size_t>(point * blocks_per_point + b)]);
-    }
-    EnsembleResult& r = results[static_cast<std::size_t>(point)];
-    std::vector<Sample> kept = std::move(r.per_sample);
-    r = to_result(total, n);
-    r.per_sample = std::move(kept);
-    if (mirror[static_cast<std::size_t>(point)]) {
-      // The samples come in exact mirror pairs (and the middle one, at x0 = 0, falls straight
-      // through): the mean of an observable that changes sign is exactly 0, where the running
-      // mean would leave rounding residues of ~1e-20.
-      for (const ObservableInfo& o : observables()) {
-        if (o.mirror_odd) r.stats[static_cast<std::size_t>(o.id)].mean = 0.0;
-      }
-    }
-  };
 
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t task = 0; task < n_tasks; ++task) {
     if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
-    const std::int64_t point = task / blocks_per_point;
-    const std::int64_t chunk = task % blocks_per_point;
-    const std::int64_t n_unique = unique_of(point);
-    const std::int64_t first = chunk * n_unique / blocks_per_point;
-    const std::int64_t last = (chunk + 1) * n_unique / blocks_per_point;
-    const Params& params = points[static_cast<std::size_t>(point)];
-    const Funnel& g = funnels[static_cast<std::size_t>(point)];
-    const bool halved = mirror[static_cast<std::size_t>(point)] != 0;
-    BlockStats& stats = blocks[static_cast<std::size_t>(task)];
-    Wear wear = Wear::make(g, options.wear_bins);
-    stats.wear = wear;
-    for (std::int64_t k = first; k < last; ++k) {
-      const double fraction = sample_fraction(options, k);
-      const State release = sample_release(params, g, options, k);
-      if (options.wear_bins > 0) wear = Wear::make(g, options.wear_bins);
-      const Trajectory t = simulate(params, g, release, nullptr, options.wear_bins > 0 ? &wear : nullptr);
-      const std::int64_t partner = halved ? n - 1 - k : k;
-      stats.add(t);
-      stats.simulated_collisions += t.collisions;
-      stats.wear.merge(wear);
-      if (partner != k) {
-        const Trajectory m = mirrored(t);
-        stats.add(m);
-        stats.wear.merge(wear.mirrored());
-      }
-      if (options.keep_samples) {
-        auto& kept = results[static_cast<std::size_t>(point)].per_sample;
-        kept[static_cast<std::size_t>(k)] = {fraction, release, t};
-        if (partner != k) kept[static_cast<std::size_t>(partner)] = {-fraction, mirror_state(release), mirrored(t)};
-      }
-    }
+    const auto point = static_cast<std::size_t>(task / n_chunks);
+    const std::int64_t chunk = task % n_chunks;
+    ChunkStats stats = compute_chunk(points[point], funnels[point], options, mirror[point] != 0, chunk);
 #pragma omp critical(funnel_sweep)
     {
-      if (--pending[static_cast<std::size_t>(point)] == 0) {
-        reduce(point);
-        if (point_done) point_done(static_cast<std::size_t>(point), results[static_cast<std::size_t>(point)]);
+      std::vector<ChunkStats>& mine = chunks[point];
+      if (mine.empty()) mine.resize(static_cast<std::size_t>(n_chunks));
+      mine[static_cast<std::size_t>(chunk)] = std::move(stats);
+      if (--pending[point] == 0) {
+        results[point] = reduce_chunks(points[point], options, std::move(mine));
+        mine = {};
+        if (point_done) point_done(point, results[point]);
       }
       ++finished;
       if (progress) progress(finished, n_tasks);

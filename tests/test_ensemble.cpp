@@ -237,6 +237,81 @@ TEST(Ensemble, ExitStatisticsAreOverTheExitedSamplesOnly) {
   EXPECT_EQ(summarize(speed).max, r[Observable::ExitSpeed].max);
 }
 
+/// Every number of two ensemble results, compared bit for bit (per-sample outputs included).
+void expect_identical(const EnsembleResult& a, const EnsembleResult& b) {
+  for (const ObservableInfo& o : observables()) expect_identical(a[o.id], b[o.id]);
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_EQ(a.exited, b.exited);
+  EXPECT_EQ(a.rest, b.rest);
+  EXPECT_EQ(a.trapped, b.trapped);
+  EXPECT_EQ(a.total_collisions, b.total_collisions);
+  EXPECT_EQ(a.simulated_collisions, b.simulated_collisions);
+  EXPECT_EQ(a.wear.bins, b.wear.bins);
+  for (int w = 0; w < 2; ++w) {
+    EXPECT_EQ(a.wear.walls[w].collisions, b.wear.walls[w].collisions);
+    EXPECT_EQ(a.wear.walls[w].impulse, b.wear.walls[w].impulse);
+    EXPECT_TRUE(same_bits(a.wear.walls[w].edge_normal_impulse, b.wear.walls[w].edge_normal_impulse));
+  }
+  ASSERT_EQ(a.per_sample.size(), b.per_sample.size());
+  for (std::size_t k = 0; k < a.per_sample.size(); ++k) {
+    const Sample &x = a.per_sample[k], &y = b.per_sample[k];
+    EXPECT_TRUE(same_bits(x.fraction, y.fraction) && same_bits(x.release.v.x, y.release.v.x)) << k;
+    EXPECT_TRUE(same_bits(x.trajectory.duration, y.trajectory.duration)) << k;
+    EXPECT_TRUE(same_bits(x.trajectory.exit_state.r.x, y.trajectory.exit_state.r.x)) << k;
+    EXPECT_EQ(x.trajectory.collisions, y.trajectory.collisions) << k;
+  }
+}
+
+TEST(Ensemble, ChunkPartitionDependsOnTheSampleCountOnly) {
+  EXPECT_EQ(chunk_count(1), 1);
+  EXPECT_EQ(chunk_count(16), 1);
+  EXPECT_EQ(chunk_count(17), 2);
+  EXPECT_EQ(chunk_count(4000), 250);
+  EXPECT_EQ(chunk_count(1'000'000'000), 256);
+}
+
+TEST(Ensemble, ChunksComputedInAnyOrderAndSplitReduceToRunEnsembleBitForBit) {
+  // What lets many processes share an ensemble: each chunk is a pure function of (point, chunk),
+  // and the reduction merges them in chunk order, whoever computed them and in whatever order.
+  Params p = default_params();
+  p.theta = 47.0;
+  EnsembleOptions line{1000, ReleaseDist::Line, 2, true};  // mirror halving, per-sample outputs
+  EnsembleOptions random{300, ReleaseDist::Uniform, 2, false};
+  random.velocity_sd = 0.05;
+  random.seed = 77;
+  random.wear_bins = 5;
+  const EnsembleOptions disk{17, ReleaseDist::Disk, 1, true};
+  for (const EnsembleOptions& o : {line, random, disk}) {
+    const EnsembleResult reference = run_ensemble(p, o);
+    const std::int64_t n_chunks = chunk_count(o.samples);
+    // One by one, last chunk first, on this thread.
+    std::vector<ChunkStats> backwards(static_cast<std::size_t>(n_chunks));
+    for (std::int64_t c = n_chunks - 1; c >= 0; --c) backwards[static_cast<std::size_t>(c)] = run_chunk(p, o, c);
+    expect_identical(reduce_chunks(p, o, std::move(backwards)), reference);
+    // In three uneven batches of interleaved chunks, with 1 and 3 threads, among other points.
+    Params other = p;
+    other.theta = 60.0;
+    const std::vector<Params> points{other, p};
+    std::vector<ChunkStats> split(static_cast<std::size_t>(n_chunks));
+    for (int batch = 0; batch < 3; ++batch) {
+      std::vector<ChunkId> ids{{0, 0}};
+      for (std::int64_t c = batch; c < n_chunks; c += 3) ids.push_back({1, c});
+      EnsembleOptions t = o;
+      t.threads = batch == 1 ? 1 : 3;
+      std::vector<ChunkStats> done = run_chunks(points, t, ids);
+      ASSERT_EQ(done.size(), ids.size());
+      for (std::size_t i = 1; i < ids.size(); ++i) split[static_cast<std::size_t>(ids[i].chunk)] = std::move(done[i]);
+    }
+    expect_identical(reduce_chunks(p, o, split), reference);
+    // The first chunks folded elsewhere (a process that computed chunks 0..k), then the rest.
+    std::vector<ChunkStats> pieces(1);
+    const std::int64_t k = n_chunks / 2;
+    for (std::int64_t c = 0; c <= k; ++c) fold_chunk(pieces[0], std::move(split[static_cast<std::size_t>(c)]));
+    for (std::int64_t c = k + 1; c < n_chunks; ++c) pieces.push_back(std::move(split[static_cast<std::size_t>(c)]));
+    expect_identical(reduce_chunks(p, o, std::move(pieces)), reference);
+  }
+}
+
 TEST(Ensemble, OptionsAreValidatedWithTheirNameValueAndRange) {
   EnsembleOptions o;
   EXPECT_FALSE(validate(o).has_value());

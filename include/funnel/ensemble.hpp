@@ -100,12 +100,59 @@ using Progress = std::function<void(std::int64_t, std::int64_t)>;
 /// mirror symmetric, so each result also stands for its mirror image.
 EnsembleResult run_ensemble(const Params& params, const EnsembleOptions& options, const Progress& progress = {});
 
+// ---- Chunks: the unit of work, shared by run_sweep and by runs over many processes ----
+
+/// Number of chunks of an ensemble of N samples, min(256, ceil(N / 16)): the unit of work and
+/// of the fixed-order reduction (docs/model.md §8). It depends on N only, never on threads or
+/// processes, which is what makes every split of the work give the same bits.
+std::int64_t chunk_count(std::int64_t samples);
+
+/// Partial statistics of one chunk of an ensemble: a plain value (no pointers into the run),
+/// which may be computed anywhere, copied between processes, and reduced later in chunk order.
+struct ChunkStats {
+  std::array<Accumulator, observable_count> acc{};  ///< per observable, samples in index order (exit ones: exited only)
+  std::int64_t exited = 0, rest = 0, trapped = 0;   ///< status counts, mirror images included
+  std::int64_t total_collisions = 0;                ///< collisions of the chunk's samples and their mirror images
+  std::int64_t simulated_collisions = 0;            ///< collisions actually computed (mirror halving)
+  Wear wear;                                        ///< summed wear record, not yet per sample (wear_bins > 0)
+  std::vector<Sample> samples;                      ///< keep_samples: the simulated samples, in index order
+};
+
+/// Computes chunk `chunk` (0 <= chunk < chunk_count(options.samples)) of the ensemble of
+/// `params` on the calling thread. Where the ensemble is mirror symmetric a chunk holds only
+/// releases x0 <= 0 (and counts their mirror images).
+ChunkStats run_chunk(const Params& params, const EnsembleOptions& options, std::int64_t chunk);
+
+/// One work unit of a sweep: chunk `chunk` of the ensemble of grid point `point`.
+struct ChunkId {
+  std::size_t point = 0;   ///< index into the points of the sweep
+  std::int64_t chunk = 0;  ///< 0 <= chunk < chunk_count(options.samples)
+};
+
+/// Computes the chunks `ids` of the points' ensembles in parallel (options.threads); results in
+/// the order of `ids`, each the same, bit for bit, as run_chunk's. Honours options.cancel.
+std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const EnsembleOptions& options,
+                                   const std::vector<ChunkId>& ids);
+
+/// Folds `next`, the chunk that follows those already folded into `prefix` (chunks 0 .. c-1 of
+/// one ensemble, or none: a default ChunkStats), into it: statistics merged (Chan), samples
+/// appended. Folding the chunks one by one from chunk 0 is what reduce_chunks does, so a prefix
+/// folded anywhere (on another process, say) stands for its chunks, bit for bit.
+void fold_chunk(ChunkStats& prefix, ChunkStats next);
+
+/// Reduces the chunks of one ensemble, in chunk-index order and covering every chunk, into its
+/// result: chunks[i] is one chunk (run_chunk), except that chunks[0] may be the fold of chunks
+/// 0 .. k (fold_chunk). The same bits as run_ensemble, whatever thread or process computed each
+/// chunk and in whatever order.
+EnsembleResult reduce_chunks(const Params& params, const EnsembleOptions& options, std::vector<ChunkStats> chunks);
+
 /// Called once per finished point with its index and result; from one thread at a time, in
 /// completion order (not index order).
 using PointDone = std::function<void(std::size_t, const EnsembleResult&)>;
 
-/// Runs one ensemble per parameter set, all in one parallel pool; results in input order. Each
-/// point's result is the same, bit for bit, as run_ensemble of that point alone.
+/// Runs one ensemble per parameter set, all in one parallel pool of chunks (run_chunk, then
+/// reduce_chunks as soon as a point's chunks are done); results in input order. Each point's
+/// result is the same, bit for bit, as run_ensemble of that point alone.
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
                                       const Progress& progress = {}, const PointDone& point_done = {});
 
