@@ -56,7 +56,9 @@ struct Kin {
   double q_scale = 1.0;  // q'' += q_scale F.e1
 };
 
-enum class Mode { Free, Sliding, Rolling };
+/// Friction regimes: none (mu = 0), sliding, the onset of sliding from zero slip (the slip still
+/// within rounding of 0, growing along the drive), rolling without slip.
+enum class Mode { Free, Sliding, Onset, Rolling };
 
 /// The surface of a contact (cone face or rim torus) and the material.
 struct Surface {
@@ -115,13 +117,15 @@ struct Surface {
   /// Friction force in a mode. Sliding uses s/|s| continued through s = 0 along the reference
   /// direction d (the slip's direction at the start of the step): past the zero the force keeps
   /// its direction, so the right-hand side stays continuous and a step can cross the zero, which
-  /// is then located on the dense output.
+  /// is then located on the dense output. At the onset of sliding the slip's direction is not yet
+  /// defined beyond rounding: the force acts against d, the direction the slip grows in.
   Vec3 friction(const Kin& k, const Y& y, Mode mode, Vec3 d) const {
     if (mode == Mode::Free) return {};
     if (mode == Mode::Rolling) return rolling_force(k, y);
     const Vec3 s = slip(k, y);
     const double size = norm(s);
-    Vec3 dir = size > 0.0 ? (dot(s, d) >= 0.0 ? 1.0 : -1.0) / size * s : d - dot(d, k.n) * k.n;
+    const Vec3 dir = mode == Mode::Sliding && size > 0.0 ? (dot(s, d) >= 0.0 ? 1.0 : -1.0) / size * s
+                                                         : d - dot(d, k.n) * k.n;
     return (-mu * k.normal) * dir;
   }
 
@@ -171,7 +175,7 @@ Y coordinates(const Surface& sf, const State3& s) {
 }
 
 /// Why an integrated phase ended.
-enum class Stop { End, RimTop, TakeOff, Exit, Rest, Cap, SlipZero, RollLimit, Minimum };
+enum class Stop { Grown, End, RimTop, TakeOff, Exit, Rest, Cap, SlipZero, RollLimit, Minimum };
 
 /// The running integrated contact.
 class Integrated {
@@ -200,8 +204,12 @@ class Integrated {
         mode = zero_slip_mode(y);
         continue;
       }
-      if (why == Stop::RollLimit) {
+      if (why == Stop::Grown) {
         mode = Mode::Sliding;
+        continue;
+      }
+      if (why == Stop::RollLimit) {
+        mode = Mode::Onset;
         reference_ = unit(sf_.drive(sf_.kin(y), y));
         continue;
       }
@@ -230,6 +238,7 @@ class Integrated {
 
  private:
   static Regime regime(Mode m) { return m == Mode::Rolling ? Regime::Rolling : Regime::Sliding; }
+
 
   static Vec3 unit(Vec3 v) {
     const double size = norm(v);
@@ -262,7 +271,7 @@ class Integrated {
       return Mode::Rolling;
     }
     reference_ = unit(sf_.drive(k, y));
-    return Mode::Sliding;
+    return Mode::Onset;
   }
 
   /// Event functions, each positive while the phase goes on; the phase stops at the first to
@@ -286,9 +295,12 @@ class Integrated {
       e.f[3] = std::numbers::pi - y[Q];
     }
     if (cone_.g.closed) e.f[4] = energy(sf_.state(y), m_.kappa, m_.radius) - opt_.eps_rest;
+    // Sliding: the slip's zero. Onset: static friction becoming able to hold rolling again (the
+    // slip is still 0 within rounding), which also goes to the zero-slip decision.
     if (mode == Mode::Sliding) e.f[5] = dot(sf_.slip(k, y), reference_);
+    if (mode == Mode::Onset) e.f[5] = -sf_.rolling_margin(k, y);
     if (mode == Mode::Rolling) e.f[6] = sf_.rolling_margin(k, y);
-    if (opt_.detect_periodic && mode != Mode::Sliding) e.f[7] = -y[QD];
+    if (opt_.detect_periodic && (mode == Mode::Free || mode == Mode::Rolling)) e.f[7] = -y[QD];
     return e;
   }
 
@@ -298,20 +310,39 @@ class Integrated {
     auto system = [&](const Y& x, Y& dx, double) { sf_.rhs(x, dx, mode, reference_); };
     stepper.initialize(y, t, dt);
     Events prev = events(y, mode);
-    // A function that starts at 0 (e.g. the rim handed over exactly at C*) counts as positive;
-    // one that starts negative ends the phase at once (e.g. a rim contact without normal force).
+    // A boundary of the surface (C*, the outlet's level) that the contact starts on, within
+    // rounding, counts as not yet reached: e.g. a contact handed over at C* moving away from it.
+    // Any other function that starts negative ends the phase at once (e.g. a rim contact without
+    // normal force, rolling that static friction cannot hold); one that starts at 0 goes on.
+    constexpr std::array<bool, 8> boundary{true, true, false, true, false, false, false, false};
     for (std::size_t i = 0; i + 1 < kinds.size(); ++i) {
+      if (boundary[i] && prev.f[i] <= 1e-12) prev.f[i] = std::numeric_limits<double>::min();
       if (prev.f[i] < 0.0) return kinds[i];
+      if (prev.f[i] == 0.0) prev.f[i] = std::numeric_limits<double>::min();
     }
-    for (double& v : prev.f) v = v == 0.0 ? std::numeric_limits<double>::min() : v;
     bool have_min = false;
     double t_min = 0.0, q_min = 0.0, h_min = 0.0, wn_min = 0.0, in_min = 0.0, if_min = 0.0, phi_min = 0.0;
     double q_max = -std::numeric_limits<double>::infinity(), q_low = std::numeric_limits<double>::infinity();
     for (;;) {
-      if (mode == Mode::Sliding) {
+      if (mode != Mode::Free && mode != Mode::Rolling) {
         const Y& x = stepper.current_state();
-        const Vec3 s = sf_.slip(sf_.kin(x), x);
-        if (norm(s) > 0.0) reference_ = unit(s);
+        const Kin k = sf_.kin(x);
+        const Vec3 s = sf_.slip(k, x);
+        const double size = norm(s);
+        if (mode == Mode::Onset) {
+          // The onset ends once the slip has grown beyond rounding (at the rolling limit it grows
+          // quadratically); its direction is then defined and sliding proper begins.
+          if (size > 1e-9 * (norm(k.v) + m_.radius * norm(Surface::omega(x)))) {
+            y = x;
+            t = stepper.current_time();
+            reference_ = unit(s);
+            return Stop::Grown;
+          }
+        } else if (size > 0.0) {
+          // The reference direction follows the slip from step to step (the force is the same).
+          reference_ = unit(s);
+          prev.f[5] = size;
+        }
       }
       const auto [t0, t1] = stepper.do_step(system);
       ++res_.steps;
@@ -389,10 +420,10 @@ class Integrated {
       phi_min = y[PHI];
       q_max = y[Q];
       q_low = y[Q];
-      // Go on from the minimum: restart the stepper there (the event function is now 0).
+      // Go on from the minimum: restart the stepper there. The minimum's function is now <= 0 and
+      // fires again only after the next maximum.
       stepper.initialize(y, t, dt);
       prev = events(y, mode);
-      prev.f[7] = std::numeric_limits<double>::min();
     }
   }
 

@@ -1,6 +1,7 @@
 // The event loop of one 3D trajectory in the axisymmetric funnel.
 #include "funnel/engine3d.hpp"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -175,6 +176,7 @@ class Run3 {
   /// is the state before the residual normal speed was dropped.
   FlightStart3 sustained_contact(bool on_rim, const State3& before) {
     State3 entry = before;
+    crossing_ = {};
     if (on_rim) {
       const Vec3 d = state_.r - rim_point(cone_, meridian_direction(state_.r));
       const Vec3 n = (1.0 / norm(d)) * d;
@@ -193,6 +195,7 @@ class Run3 {
           start.slow_rim = true;
           return start;
         }
+        if (repeats_cycle()) return {};
       } else if (how != Contact3End::RimTop) {
         start.on_rim = true;  // took off tangentially, curving away from the rim torus
         start.slow_rim = true;
@@ -204,6 +207,55 @@ class Run3 {
     out_.stalled = true;
     end(Status::Trapped, time_);
     return {};
+  }
+
+  /// The state of a contact crossing C* down the face onto the rim, up to the symmetry about the
+  /// axis: velocity and spin in the local frame (down-slope, azimuthal, normal) and the energy.
+  struct Crossing {
+    bool valid = false;
+    std::array<double, 5> local{};
+    double energy = 0.0, time = 0.0, impulse = 0.0, normal_impulse = 0.0, swept = 0.0;
+  };
+
+  /// Called at each crossing of C* from the face onto the rim. A contact that crosses C* again in
+  /// the same local state with the same energy (a conservative cycle between the face and the
+  /// rim: rolling, or frictionless sliding) repeats it forever, since the motion depends on the
+  /// local state only (the funnel is axisymmetric): the run is extrapolated to the time cap and
+  /// ends trapped. Returns true when it did so.
+  bool repeats_cycle() {
+    const Vec3 b = meridian_direction(state_.r);
+    const Vec3 n = cone_normal(cone_, b);
+    const Vec3 down{-g_.cos_t * b.x, -g_.sin_t, -g_.cos_t * b.z};
+    const Vec3 across = azimuthal_direction(b);
+    Crossing now;
+    now.valid = true;
+    now.local = {dot(state_.v, down), dot(state_.v, across), dot(state_.omega, n), dot(state_.omega, down),
+                 dot(state_.omega, across)};
+    now.energy = energy(state_, mat_.kappa, mat_.radius);
+    now.time = time_;
+    now.impulse = out_.impulse;
+    now.normal_impulse = out_.normal_impulse;
+    now.swept = swept_;
+    const double scale = norm(state_.v) + mat_.radius * norm(state_.omega);
+    // Tolerances well above the integrator's error over a cycle (~1e-11) and far below any
+    // dissipation that matters over the time cap.
+    bool same = crossing_.valid && std::fabs(now.energy - crossing_.energy) <= 1e-9 * std::fmax(now.energy, 1.0);
+    for (int i = 0; i < 5 && same; ++i) {
+      const double unit = i < 2 ? scale : scale / mat_.radius;
+      same = std::fabs(now.local[i] - crossing_.local[i]) <= 1e-7 * unit;
+    }
+    if (!same || !(now.time > crossing_.time)) {
+      crossing_ = now;
+      return false;
+    }
+    const double periods = (params_.t_max - time_) / (now.time - crossing_.time);
+    out_.impulse += periods * (now.impulse - crossing_.impulse);
+    out_.normal_impulse += periods * (now.normal_impulse - crossing_.normal_impulse);
+    out_.contact_time += params_.t_max - time_;
+    swept_ += periods * (now.swept - crossing_.swept);
+    out_.periodic = true;
+    end(Status::Trapped, params_.t_max);
+    return true;
   }
 
   /// One sustained contact on the face or the rim from state_ (tangential). `entry` is the state
@@ -272,7 +324,10 @@ class Run3 {
       case Contact3End::Exit: exit_here(); break;
       case Contact3End::Rest: end(Status::Rest, time_); break;
       case Contact3End::Periodic: out_.periodic = true; end(Status::Trapped, params_.t_max); break;
-      case Contact3End::TimeCap: end(Status::Trapped, time_); break;
+      case Contact3End::TimeCap:
+        out_.stalled = time_ < params_.t_max;  // a guard of the integrator fired, not the cap
+        end(Status::Trapped, time_);
+        break;
       default: break;
     }
     return res.how;
@@ -305,6 +360,7 @@ class Run3 {
   double time_ = 0.0;
   double e0_ = 0.0;
   double swept_ = 0.0;
+  Crossing crossing_;
   bool done_ = false;
   Trajectory3 out_;
 };

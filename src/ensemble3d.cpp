@@ -1,0 +1,159 @@
+// Parallel 3D ensembles with a fixed reduction order (deterministic for any thread count).
+#include "funnel/ensemble3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "funnel/random.hpp"
+
+namespace funnel {
+
+namespace {
+
+/// Work units per ensemble, as in 2D: the partition depends on N only, never on the threads.
+constexpr std::int64_t max_chunks = 256;
+constexpr std::int64_t min_chunk = 16;
+
+struct BlockStats3 {
+  Accumulator duration, impulse, normal_impulse, energy_loss, collisions, edge_collisions, contact_time, orbits;
+  Accumulator duration_exited, impulse_exited, energy_loss_exited;
+  std::int64_t exited = 0, rest = 0, trapped = 0, periodic = 0, total_collisions = 0, ode_steps = 0;
+
+  void add(const Trajectory3& t) {
+    duration.add(t.duration);
+    impulse.add(t.impulse);
+    normal_impulse.add(t.normal_impulse);
+    energy_loss.add(t.energy_loss);
+    collisions.add(static_cast<double>(t.collisions));
+    edge_collisions.add(static_cast<double>(t.edge_collisions));
+    contact_time.add(t.contact_time);
+    orbits.add(std::fabs(t.orbits));
+    if (t.status == Status::Exited) {
+      duration_exited.add(t.duration);
+      impulse_exited.add(t.impulse);
+      energy_loss_exited.add(t.energy_loss);
+    }
+    exited += t.status == Status::Exited;
+    rest += t.status == Status::Rest;
+    trapped += t.status == Status::Trapped;
+    periodic += t.periodic;
+    total_collisions += t.collisions;
+    ode_steps += t.ode_steps;
+  }
+
+  void merge(const BlockStats3& o) {
+    duration.merge(o.duration);
+    impulse.merge(o.impulse);
+    normal_impulse.merge(o.normal_impulse);
+    energy_loss.merge(o.energy_loss);
+    collisions.merge(o.collisions);
+    edge_collisions.merge(o.edge_collisions);
+    contact_time.merge(o.contact_time);
+    orbits.merge(o.orbits);
+    duration_exited.merge(o.duration_exited);
+    impulse_exited.merge(o.impulse_exited);
+    energy_loss_exited.merge(o.energy_loss_exited);
+    exited += o.exited;
+    rest += o.rest;
+    trapped += o.trapped;
+    periodic += o.periodic;
+    total_collisions += o.total_collisions;
+    ode_steps += o.ode_steps;
+  }
+
+  Ensemble3Result result(std::int64_t samples) const {
+    Ensemble3Result r;
+    r.samples = samples;
+    r.duration = summarize(duration);
+    r.impulse = summarize(impulse);
+    r.normal_impulse = summarize(normal_impulse);
+    r.energy_loss = summarize(energy_loss);
+    r.collisions = summarize(collisions);
+    r.edge_collisions = summarize(edge_collisions);
+    r.contact_time = summarize(contact_time);
+    r.orbits = summarize(orbits);
+    r.duration_exited = summarize(duration_exited);
+    r.impulse_exited = summarize(impulse_exited);
+    r.energy_loss_exited = summarize(energy_loss_exited);
+    r.exited = exited;
+    r.rest = rest;
+    r.trapped = trapped;
+    r.periodic = periodic;
+    r.total_collisions = total_collisions;
+    r.ode_steps = ode_steps;
+    return r;
+  }
+};
+
+}  // namespace
+
+State3 ensemble_release_3d(const Params& params, const Cone& cone, const Ensemble3Options& options, std::int64_t k) {
+  State3 s = release_state_3d(params, cone, release_fraction(options.dist, k, options.samples), options.release);
+  if (options.velocity_sd > 0.0) {
+    const auto index = static_cast<std::uint64_t>(k);
+    s.v.x += options.velocity_sd * normal(options.seed, release_velocity_stream, index, 0);
+    s.v.z += options.velocity_sd * normal(options.seed, release_velocity_stream, index, 1);
+  }
+  return s;
+}
+
+std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const Ensemble3Options& options,
+                                          const Progress& progress) {
+  const std::int64_t n = options.samples;
+  const std::int64_t blocks_per_point = std::min(max_chunks, (n + min_chunk - 1) / min_chunk);
+  const auto n_points = static_cast<std::int64_t>(points.size());
+  const std::int64_t n_tasks = n_points * blocks_per_point;
+  std::vector<Cone> cones;
+  cones.reserve(points.size());
+  for (const Params& p : points) cones.push_back(make_cone(p));
+  std::vector<Ensemble3Result> results(points.size());
+  if (options.keep_samples) {
+    for (auto& r : results) r.per_sample.resize(static_cast<std::size_t>(n));
+  }
+  std::vector<BlockStats3> blocks(static_cast<std::size_t>(n_tasks));
+  std::vector<std::int64_t> pending(points.size(), blocks_per_point);
+  std::int64_t finished = 0;
+
+#pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
+  for (std::int64_t task = 0; task < n_tasks; ++task) {
+    const std::int64_t point = task / blocks_per_point;
+    const std::int64_t chunk = task % blocks_per_point;
+    const std::int64_t first = chunk * n / blocks_per_point;
+    const std::int64_t last = (chunk + 1) * n / blocks_per_point;
+    const Params& params = points[static_cast<std::size_t>(point)];
+    const Cone& cone = cones[static_cast<std::size_t>(point)];
+    BlockStats3& stats = blocks[static_cast<std::size_t>(task)];
+    for (std::int64_t k = first; k < last; ++k) {
+      const State3 start = ensemble_release_3d(params, cone, options, k);
+      const Trajectory3 t = simulate_3d(params, cone, start);
+      stats.add(t);
+      if (options.keep_samples) {
+        results[static_cast<std::size_t>(point)].per_sample[static_cast<std::size_t>(k)] = {
+            release_fraction(options.dist, k, n), start.v, t};
+      }
+    }
+#pragma omp critical(funnel_sweep_3d)
+    {
+      if (--pending[static_cast<std::size_t>(point)] == 0) {
+        // Reduce the point's chunks in index order: the same bits whatever the thread count.
+        BlockStats3 total;
+        for (std::int64_t b = 0; b < blocks_per_point; ++b) {
+          total.merge(blocks[static_cast<std::size_t>(point * blocks_per_point + b)]);
+        }
+        Ensemble3Result& r = results[static_cast<std::size_t>(point)];
+        std::vector<Sample3> kept = std::move(r.per_sample);
+        r = total.result(n);
+        r.per_sample = std::move(kept);
+      }
+      ++finished;
+      if (progress) progress(finished, n_tasks);
+    }
+  }
+  return results;
+}
+
+Ensemble3Result run_ensemble_3d(const Params& params, const Ensemble3Options& options, const Progress& progress) {
+  return std::move(run_sweep_3d({params}, options, progress).front());
+}
+
+}  // namespace funnel
