@@ -47,6 +47,11 @@ constexpr std::int64_t max_steps = 20'000'000;
 constexpr int max_phases = 100000;
 /// Dense-output samples per step at which the event functions are checked for a sign change.
 constexpr int samples_per_step = 4;
+/// A slip below this fraction of |v| + a|omega| is zero: far above the integrator's error on it
+/// (~1e-12) and far below any slip that matters. The onset of sliding ends above grown_slip (a
+/// hysteresis, so that the two never alternate).
+constexpr double zero_slip = 1e-10;
+constexpr double grown_slip = 1e-9;
 
 /// Everything about the motion at one state that the equations and the events need.
 struct Kin {
@@ -239,6 +244,9 @@ class Integrated {
  private:
   static Regime regime(Mode m) { return m == Mode::Rolling ? Regime::Rolling : Regime::Sliding; }
 
+  /// The scale of slip velocities: |v| + a |omega|.
+  double slip_scale(const Kin& k, const Y& y) const { return norm(k.v) + m_.radius * norm(Surface::omega(y)); }
+
 
   static Vec3 unit(Vec3 v) {
     const double size = norm(v);
@@ -249,9 +257,9 @@ class Integrated {
     if (m_.mu == 0.0) return Mode::Free;
     const Kin k = sf_.kin(y);
     const Vec3 s = sf_.slip(k, y);
-    const double scale = norm(k.v) + m_.radius * norm(Surface::omega(y));
-    // A slip within rounding of zero is zero (e.g. after a sticking collision with beta0 = 0).
-    if (norm(s) <= 64.0 * std::numeric_limits<double>::epsilon() * scale) return zero_slip_mode(y);
+    // A slip within the integrator's error of zero is zero (e.g. after a sticking collision with
+    // beta0 = 0, or handed over from rolling).
+    if (norm(s) <= zero_slip * slip_scale(k, y)) return zero_slip_mode(y);
     reference_ = unit(s);
     return Mode::Sliding;
   }
@@ -332,13 +340,19 @@ class Integrated {
         if (mode == Mode::Onset) {
           // The onset ends once the slip has grown beyond rounding (at the rolling limit it grows
           // quadratically); its direction is then defined and sliding proper begins.
-          if (size > 1e-9 * (norm(k.v) + m_.radius * norm(Surface::omega(x)))) {
+          if (size > grown_slip * slip_scale(k, x)) {
             y = x;
             t = stepper.current_time();
             reference_ = unit(s);
             return Stop::Grown;
           }
-        } else if (size > 0.0) {
+        } else if (size <= zero_slip * slip_scale(k, x)) {
+          // Down to the integrator's error without a located zero (its direction is then noise):
+          // the slip has vanished.
+          y = x;
+          t = stepper.current_time();
+          return Stop::SlipZero;
+        } else {
           // The reference direction follows the slip from step to step (the force is the same).
           reference_ = unit(s);
           prev.f[5] = size;

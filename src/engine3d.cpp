@@ -25,8 +25,8 @@ std::string_view to_string(Contact3End end) {
 
 namespace {
 
-/// Hand-overs between the face and the rim within one sustained contact after which the run is
-/// stopped as trapped (as in 2D: a guard no physical contact reaches).
+/// Consecutive hand-overs between the face and the rim without time advancing after which the run
+/// is stopped as trapped (a Zeno guard no physical contact reaches).
 constexpr int max_hand_overs = 1000;
 
 class Run3 {
@@ -182,8 +182,12 @@ class Run3 {
       const Vec3 n = (1.0 / norm(d)) * d;
       state_.v = state_.v - dot(state_.v, n) * n;
     }
-    for (int hop = 0; hop < max_hand_overs; ++hop) {
+    // Hand-overs go on while time advances (a slowly dissipating orbit about the throat may cross
+    // C* many times); many in a row without any time passing are a Zeno loop.
+    for (int idle = 0; idle < max_hand_overs;) {
+      const double before_phase = time_;
       const Contact3End how = contact_phase(on_rim, entry);
+      idle = time_ > before_phase ? 0 : idle + 1;
       if (done_) return {};
       FlightStart3 start;
       if (!on_rim) {

@@ -1,0 +1,149 @@
+// 3D ensembles: the 2D cone statistics for releases at rest, determinism, seeded releases.
+#include "funnel/ensemble3d.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "funnel/random.hpp"
+#include "test_util.hpp"
+
+namespace funnel {
+namespace {
+
+using test::near;
+
+void expect_same(const Summary& a, const Summary& b) {
+  EXPECT_EQ(a.mean, b.mean);
+  EXPECT_EQ(a.std, b.std);
+  EXPECT_EQ(a.min, b.min);
+  EXPECT_EQ(a.max, b.max);
+}
+
+TEST(Ensemble3d, ReleasesAtRestGiveTheTwoDimensionalConeStatisticsBitForBit) {
+  // A ball released at rest stays in its meridian plane: the 3D disk ensemble is the 2D one.
+  for (const double theta : {30.0, 46.0, 60.0}) {
+    Params p = default_params();
+    p.theta = theta;
+    EnsembleOptions o2;
+    o2.samples = 200;
+    o2.dist = ReleaseDist::Disk;
+    o2.threads = 2;
+    Ensemble3Options o3;
+    o3.samples = 200;
+    o3.threads = 2;
+    const EnsembleResult a = run_ensemble(p, o2);
+    const Ensemble3Result b = run_ensemble_3d(p, o3);
+    expect_same(b.duration, a.duration);
+    expect_same(b.impulse, a.impulse);
+    expect_same(b.normal_impulse, a.normal_impulse);
+    expect_same(b.energy_loss, a.energy_loss);
+    expect_same(b.collisions, a.collisions);
+    expect_same(b.edge_collisions, a.edge_collisions);
+    expect_same(b.contact_time, a.contact_time);
+    EXPECT_EQ(b.exited, a.exited);
+    EXPECT_EQ(b.trapped, a.trapped);
+    EXPECT_EQ(b.total_collisions, a.total_collisions);
+    EXPECT_EQ(b.orbits.max, 0.0);
+    EXPECT_EQ(b.ode_steps, 0);  // every contact in closed form
+  }
+}
+
+TEST(Ensemble3d, LineReleasesGiveTheTwoDimensionalFunnelStatistics) {
+  Params p = default_params();
+  p.theta = 50.0;
+  EnsembleOptions o2;
+  o2.samples = 101;
+  Ensemble3Options o3;
+  o3.samples = 101;
+  o3.dist = ReleaseDist::Line;
+  const EnsembleResult a = run_ensemble(p, o2);
+  const Ensemble3Result b = run_ensemble_3d(p, o3);
+  // The 2D engine simulates half the line and counts each mirror twice: the sums are the same up
+  // to their order.
+  EXPECT_TRUE(near(b.duration.mean, a.duration.mean, 1e-12));
+  EXPECT_TRUE(near(b.impulse.mean, a.impulse.mean, 1e-12));
+  EXPECT_TRUE(near(b.energy_loss.mean, a.energy_loss.mean, 1e-12));
+  EXPECT_EQ(b.total_collisions, a.total_collisions);
+}
+
+TEST(Ensemble3d, ResultsAreBitIdenticalForAnyThreadCount) {
+  Params p = default_params();
+  p.theta = 60.0;
+  p.t_max = 2000.0;
+  Ensemble3Options o;
+  o.samples = 48;
+  o.velocity_sd = 0.05;
+  o.seed = 17;
+  o.threads = 1;
+  const Ensemble3Result a = run_ensemble_3d(p, o);
+  o.threads = 2;
+  const Ensemble3Result b = run_ensemble_3d(p, o);
+  expect_same(a.duration, b.duration);
+  expect_same(a.impulse, b.impulse);
+  expect_same(a.energy_loss, b.energy_loss);
+  expect_same(a.orbits, b.orbits);
+  EXPECT_EQ(a.trapped, b.trapped);
+  EXPECT_EQ(a.ode_steps, b.ode_steps);
+  EXPECT_GT(a.ode_steps, 0);  // integrated contacts are part of it
+}
+
+TEST(Ensemble3d, ReleaseVelocitiesAreSeededNormalDraws) {
+  Params p = default_params();
+  p.release_u = 0.01;
+  const Cone c = make_cone(p);
+  Ensemble3Options o;
+  o.samples = 4000;
+  o.velocity_sd = 0.03;
+  o.seed = 99;
+  o.release.w = -0.02;
+  double su = 0.0, sw = 0.0, su2 = 0.0, sw2 = 0.0;
+  for (std::int64_t k = 0; k < o.samples; ++k) {
+    const State3 s = ensemble_release_3d(p, c, o, k);
+    const auto index = static_cast<std::uint64_t>(k);
+    EXPECT_EQ(s.v.x, 0.01 + 0.03 * normal(99, release_velocity_stream, index, 0));
+    EXPECT_EQ(s.v.z, -0.02 + 0.03 * normal(99, release_velocity_stream, index, 1));
+    EXPECT_EQ(s.v.y, 0.0);
+    EXPECT_EQ(s.r.z, 0.0);
+    su += s.v.x - 0.01;
+    sw += s.v.z + 0.02;
+    su2 += (s.v.x - 0.01) * (s.v.x - 0.01);
+    sw2 += (s.v.z + 0.02) * (s.v.z + 0.02);
+  }
+  const double n = static_cast<double>(o.samples), var = 0.03 * 0.03;
+  EXPECT_NEAR(su / n, 0.0, 5.0 * 0.03 / std::sqrt(n));
+  EXPECT_NEAR(sw / n, 0.0, 5.0 * 0.03 / std::sqrt(n));
+  EXPECT_NEAR(su2 / n, var, 5.0 * var * std::sqrt(2.0 / n));
+  EXPECT_NEAR(sw2 / n, var, 5.0 * var * std::sqrt(2.0 / n));
+  Ensemble3Options other = o;
+  other.seed = 100;
+  EXPECT_NE(ensemble_release_3d(p, c, other, 5).v.x, ensemble_release_3d(p, c, o, 5).v.x);
+}
+
+TEST(Ensemble3d, KeptSamplesAgreeWithTheStatistics) {
+  Params p = default_params();
+  p.theta = 45.0;
+  p.t_max = 1000.0;
+  Ensemble3Options o;
+  o.samples = 40;
+  o.velocity_sd = 0.03;
+  o.keep_samples = true;
+  const Ensemble3Result r = run_ensemble_3d(p, o);
+  ASSERT_EQ(r.per_sample.size(), 40u);
+  double sum = 0.0, sum_exited = 0.0;
+  std::int64_t exited = 0;
+  for (const Sample3& s : r.per_sample) {
+    sum += s.trajectory.duration;
+    if (s.trajectory.status == Status::Exited) {
+      sum_exited += s.trajectory.duration;
+      ++exited;
+    }
+  }
+  EXPECT_TRUE(near(r.duration.mean, sum / 40.0, 1e-12));
+  EXPECT_EQ(r.exited, exited);
+  ASSERT_GT(exited, 0);
+  EXPECT_TRUE(near(r.duration_exited.mean, sum_exited / static_cast<double>(exited), 1e-12));
+}
+
+}  // namespace
+}  // namespace funnel
