@@ -13,10 +13,10 @@ Cone make_cone(const Params& params) {
 }
 
 Vec3 meridian_direction(Vec3 r) {
-  const double rho = std::hypot(r.x, r.z);
-  if (rho == 0.0) return {1.0, 0.0, 0.0};
-  // x / |x| and 0 / |x| are exact: a centre in the plane z = 0 has b = (+-1, 0, 0) exactly.
-  return {r.x / rho, 0.0, r.z / rho};
+  // In the plane z = 0 the direction is (+-1, 0, +-0) exactly, as x / |x| and z / |x| would give.
+  if (r.z == 0.0) return r.x == 0.0 ? Vec3{1.0, 0.0, 0.0} : Vec3{r.x > 0.0 ? 1.0 : -1.0, 0.0, r.z};
+  const double inv = 1.0 / axis_distance(r);
+  return {r.x * inv, 0.0, r.z * inv};
 }
 
 State to_meridian(const State3& s, Vec3 b) {

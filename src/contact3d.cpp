@@ -158,7 +158,7 @@ struct Surface {
 /// Coordinates of a 3D state on a surface.
 Y coordinates(const Surface& sf, const State3& s) {
   Y y{};
-  const double rho = std::hypot(s.r.x, s.r.z);
+  const double rho = axis_distance(s.r);
   y[PHI] = std::atan2(-s.r.z, s.r.x);
   const Vec3 e_rho{std::cos(y[PHI]), 0.0, -std::sin(y[PHI])};
   const Vec3 e_phi{-std::sin(y[PHI]), 0.0, -std::cos(y[PHI])};

@@ -22,7 +22,7 @@ double generator_distance(const Cone& c, Vec3 b, Vec3 r) { return dot(cone_norma
 /// Distance from the centre cone, cos(theta) y - sin(theta) rho, along the flight.
 double cone_distance_at(const Cone& c, const State3& s, double t) {
   const State3 a = advance(s, t);
-  return c.g.cos_t * a.r.y - c.g.sin_t * std::hypot(a.r.x, a.r.z);
+  return c.g.cos_t * a.r.y - c.g.sin_t * axis_distance(a.r);
 }
 
 /// The descending root of the concave distance from the cone on [0, hi], where the distance is
@@ -175,7 +175,7 @@ double cone_face_time(const Cone& c, const State3& s, const FlightStart3& start)
   }
   if (t_best == never || g.closed) return t_best;
   const State3 at = advance(s, t_best);
-  return up_face(c, std::hypot(at.r.x, at.r.z), at.r.y) >= 0.0 ? t_best : never;
+  return up_face(c, axis_distance(at.r), at.r.y) >= 0.0 ? t_best : never;
 }
 
 double rim_time(const Cone& c, const State3& s, const FlightStart3& start, double t_limit) {
@@ -233,7 +233,7 @@ double rim_time(const Cone& c, const State3& s, const FlightStart3& start, doubl
     if (std::fabs(polished - t) <= 1e-9 * (t + a)) t = polished;
     // Valid only on the rim's side of C*: an approach from the face's side is the face contact.
     const State3 hit = advance(s, t);
-    return up_face(c, std::hypot(hit.r.x, hit.r.z), hit.r.y) <= 1e-9 * a ? t : never;
+    return up_face(c, axis_distance(hit.r), hit.r.y) <= 1e-9 * a ? t : never;
   }
   return never;
 }

@@ -4,6 +4,8 @@
 // second horizontal axis.
 #pragma once
 
+#include <cmath>
+
 #include "funnel/geometry.hpp"
 #include "funnel/params.hpp"
 #include "funnel/vec3.hpp"
@@ -41,6 +43,10 @@ struct Cone {
 
 /// The cone of already validated parameters.
 Cone make_cone(const Params& params);
+
+/// Distance of a point from the vertical axis, sqrt(x^2 + z^2) (positions are O(1): no scaling
+/// as in hypot is needed; sqrt(x^2) is |x| exactly, so a point with z = 0 gives the 2D numbers).
+inline double axis_distance(Vec3 r) { return std::sqrt(r.x * r.x + r.z * r.z); }
 
 /// Unit horizontal direction (b_x, 0, b_z) of the meridian half-plane through r; (1, 0, 0) on the axis.
 Vec3 meridian_direction(Vec3 r);
