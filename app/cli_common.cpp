@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -15,25 +16,6 @@
 namespace funnel::cli {
 
 namespace {
-
-struct OptionDoc {
-  const char* name;
-  const char* meaning;
-  const char* fallback;
-};
-
-// Meaning and default of each model option (MODEL.md §1); ranges come from the library.
-const OptionDoc option_docs[] = {
-    {"theta", "wall angle to the horizontal, degrees", "60"},
-    {"e", "normal restitution", "0.99"},
-    {"mu", "Coulomb friction coefficient", "1"},
-    {"beta0", "maximum tangential restitution (Walton)", "0"},
-    {"radius", "particle radius a / H", "0.01"},
-    {"gap", "gap between the walls' lower edges / H (0 = closed funnel)", "0.04"},
-    {"inertia", "kappa = I/(m a^2): 0.4 solid sphere, 2/3 hollow sphere, 0.5 disk", "0.4"},
-    {"t-max", "time cap, units of sqrt(H/g)", "1e5"},
-    {"max-collisions", "collision cap per trajectory", "1e8"},
-};
 
 double parse_single(const std::string& name, const std::string& text) {
   const auto v = parse_number(text);
@@ -53,28 +35,48 @@ void set_or_throw(Params& p, const std::string& name, double value, const std::s
 
 }  // namespace
 
-void add_model_options(CLI::App& app, ModelOptions& options, bool lists) {
-  for (const OptionDoc& doc : option_docs) {
-    std::string help = std::string(doc.meaning) + "; " + std::string(valid_range(doc.name)) +
-                       " (default " + doc.fallback + ")";
+void add_model_options(CLI::App& app, ModelOptions& options, bool lists, Space space) {
+  for (const ParameterInfo& p : parameters(space)) {
+    if (!p.option) continue;
+    std::string help = std::string(p.meaning);
+    if (!p.unit.empty()) help += " [" + std::string(p.unit) + "]";
+    help += "; " + std::string(p.range) + " (default " + std::string(p.default_text) + ")";
     if (lists) help += "; a list a,b,c or a range start:stop:step sweeps it";
-    const std::string name = doc.name;
+    const std::string name(p.name);
+    // In 3D the 2D spin is the spin about z.
+    const std::string flags = "--" + name + (space == Space::ThreeD && name == "release-spin" ? ",--release-spin-z" : "");
     app.add_option_function<std::string>(
-           "--" + name, [&options, name](const std::string& value) { options.given[name] = value; }, help)
+           flags, [&options, name](const std::string& value) { options.given[name] = value; }, help)
         ->type_name(lists ? "LIST" : "NUM");
   }
 }
 
-Params to_params(const ModelOptions& options) {
+Params to_params(const ModelOptions& options, Space space) {
   Params p = default_params();
   for (const auto& [name, text] : options.given) set_or_throw(p, name, parse_single(name, text), text);
-  if (const auto err = validate(p)) throw UsageError(err->message());
+  if (const auto err = validate(p, space)) throw UsageError(err->message());
   return p;
+}
+
+void add_space_option(CLI::App& app, std::string& space) {
+  app.add_option("--space", space,
+                 "2d: the paper's 2D funnel; 3d: the funnel revolved about its vertical axis (a cone with a circular "
+                 "outlet of diameter --gap; sideways velocity, spin vector, orbits about the axis); default 2d")
+      ->type_name("SPACE");
+}
+
+Space to_space(const std::string& text) {
+  const auto s = parse_space(text);
+  if (!s) throw UsageError("invalid space = '" + text + "': valid values are 2d, 3d");
+  return *s;
 }
 
 std::vector<Axis> to_axes(const ModelOptions& options) {
   std::vector<Axis> axes;
-  for (const std::string& name : sweep_parameter_names()) {
+  for (const ParameterInfo& info : parameters(Space::ThreeD)) {
+    // 3D parameters too: in 2D, validate_all then rejects any value but 0.
+    if (!info.option) continue;
+    const std::string name(info.name);
     const auto it = options.given.find(name);
     if (it == options.given.end()) continue;
     std::string reason;
@@ -97,9 +99,9 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
   return axes;
 }
 
-void validate_all(const std::vector<Params>& points) {
+void validate_all(const std::vector<Params>& points, Space space) {
   for (const Params& p : points) {
-    if (const auto err = validate(p)) throw UsageError(err->message());
+    if (const auto err = validate(p, space)) throw UsageError(err->message());
   }
 }
 
@@ -114,7 +116,7 @@ std::int64_t to_samples(const std::string& text) {
 
 ReleaseDist to_release_dist(const std::string& text) {
   const auto d = parse_release_dist(text);
-  if (!d) throw UsageError("invalid release-dist = '" + text + "': valid values are line, disk");
+  if (!d) throw UsageError("invalid release-dist = '" + text + "': valid values are line, disk, uniform, gaussian");
   return *d;
 }
 
@@ -127,20 +129,80 @@ int to_threads(const std::string& text) {
   return n;
 }
 
-void add_ensemble_options(CLI::App& app, EnsembleText& text) {
-  app.add_option("--samples", text.samples, "release positions N; integer >= 1 (default 4000)")->type_name("N");
+void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool wear) {
+  app.add_option("--samples", text.samples, "release positions N; integer 1 <= N <= 10^9 (default 4000)")->type_name("N");
   app.add_option("--release-dist", text.release_dist,
-                 "release distribution: line (2D funnel, uniform x0) or disk (cone, uniform over the disk); default line")
+                 "release distribution: line (2D funnel, x0 uniformly spaced, the paper's), disk (cone, "
+                 "uniform over the disk), uniform (x0/L uniform random), gaussian (x0/L normal, mean --release, "
+                 "sd --release-sd, truncated to (-1, 1)); default line (3d: disk; only line and disk)")
       ->type_name("DIST");
+  app.add_option("--seed", text.seed,
+                 "seed of the random releases and velocities (a counter-based generator keyed by seed and sample "
+                 "index: the same samples for any thread count); integer 0 <= seed < 2^64 (default 1)")
+      ->type_name("S");
+  app.add_option("--release", text.release, "gaussian: mean release position x0/L; -1 < X < 1 (default 0)")
+      ->type_name("X");
+  app.add_option("--release-sd", text.release_sd, "gaussian: standard deviation of x0/L; 0 < SD <= 10 (default 0.1)")
+      ->type_name("SD");
+  if (velocity) {
+    app.add_option("--velocity-sd", text.velocity_sd,
+                   "standard deviation of a random initial velocity added to each component (u, v; in 3d the "
+                   "horizontal u, w), units "
+                   "sqrt(gH); 0 <= SIGMA <= 1000 (default 0)")
+        ->type_name("SIGMA");
+  }
+  if (wear) {
+    app.add_option("--wear-bins", text.wear_bins,
+                   "record where the walls wear in N equal bins along each wall (JSON key 'wear', per-sample "
+                   "means); integer 0 <= N <= 10^6 (default 0: none)")
+        ->type_name("N");
+  }
   app.add_option("--threads", text.threads, "worker threads; integer >= 1, or 0 = all cores (default 0)")
       ->type_name("T");
 }
+
+namespace {
+
+double option_number(const char* name, const std::string& text, const char* range) {
+  const auto v = parse_number(text);
+  if (!v) throw UsageError("invalid " + std::string(name) + " = '" + text + "': not a finite number; valid range is " + range);
+  return *v;
+}
+
+std::int64_t option_integer(const char* name, const std::string& text, const char* range) {
+  std::int64_t n = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (ec != std::errc() || ptr != text.data() + text.size()) {
+    throw UsageError("invalid " + std::string(name) + " = '" + text + "': not an integer; valid range is " + range);
+  }
+  return n;
+}
+
+}  // namespace
 
 EnsembleOptions to_ensemble_options(const EnsembleText& text) {
   EnsembleOptions o;
   o.samples = to_samples(text.samples);
   o.dist = to_release_dist(text.release_dist);
   o.threads = to_threads(text.threads);
+  {
+    std::uint64_t seed = 0;
+    const auto [ptr, ec] = std::from_chars(text.seed.data(), text.seed.data() + text.seed.size(), seed);
+    if (ec != std::errc() || ptr != text.seed.data() + text.seed.size()) {
+      throw UsageError("invalid seed = '" + text.seed + "': valid range is an integer 0 <= seed < 2^64");
+    }
+    o.seed = seed;
+  }
+  o.release_mean = option_number("release", text.release, "-1 < release < 1 (x0/L)");
+  o.release_sd = option_number("release-sd", text.release_sd, "0 < release-sd <= 10 (units of L)");
+  o.velocity_sd = option_number("velocity-sd", text.velocity_sd, "0 <= velocity-sd <= 1000 (units of sqrt(gH))");
+  const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^6");
+  o.wear_bins = static_cast<int>(std::clamp<std::int64_t>(bins, -1, 1'000'001));
+  if (const auto err = validate(o)) {
+    ParamError e = *err;
+    if (e.name == "wear-bins") e.value = text.wear_bins;
+    throw UsageError(e.message());
+  }
   return o;
 }
 
@@ -156,6 +218,7 @@ Format to_format(const std::string& text) {
 }
 
 std::string number(double x) {
+  if (x == 0.0) x = 0.0;  // no "-0" in outputs
   char buf[32];
   const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, x);
   (void)ec;

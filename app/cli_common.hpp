@@ -26,33 +26,49 @@ struct ModelOptions {
   std::map<std::string, std::string> given;  ///< only the options the user set
 };
 
-/// Adds --theta --e --mu --beta0 --radius --gap --inertia --t-max --max-collisions to `app`.
-/// With `lists`, each also accepts a list "a,b,c" or a range "start:stop:step".
-void add_model_options(CLI::App& app, ModelOptions& options, bool lists);
+/// Adds one option per model parameter of the library's table (--theta ... --release-spin).
+/// With `lists`, each also accepts a list "a,b,c" or a range "start:stop:step". With
+/// Space::ThreeD, also the 3D ones (--release-w, --release-spin-x/-y; --release-spin-z is
+/// --release-spin), for the commands that take --space.
+void add_model_options(CLI::App& app, ModelOptions& options, bool lists, Space space = Space::TwoD);
 
-/// Parameters from single-valued options over the defaults; throws UsageError if invalid.
-Params to_params(const ModelOptions& options);
+/// Parameters from single-valued options over the defaults; throws UsageError if invalid (in
+/// 2D, also for a 3D option that is not 0).
+Params to_params(const ModelOptions& options, Space space = Space::TwoD);
+
+/// Adds --space (2d or 3d, default 2d).
+void add_space_option(CLI::App& app, std::string& space);
+/// Parses "2d" or "3d"; throws UsageError.
+Space to_space(const std::string& text);
 
 /// Grid axes from list-valued options (and the parameters' defaults for the rest).
 std::vector<Axis> to_axes(const ModelOptions& options);
 
 /// Validates every point of a grid; throws UsageError naming the first invalid one.
-void validate_all(const std::vector<Params>& points);
+void validate_all(const std::vector<Params>& points, Space space = Space::TwoD);
 
 /// Parses a sample count (>= 1); throws UsageError.
 std::int64_t to_samples(const std::string& text);
-/// Parses "line" or "disk"; throws UsageError.
+/// Parses "line", "disk", "uniform" or "gaussian"; throws UsageError.
 ReleaseDist to_release_dist(const std::string& text);
 /// Parses a thread count (>= 1, or 0 for all cores); throws UsageError.
 int to_threads(const std::string& text);
 
-/// Adds the ensemble options (--samples --release-dist --threads) with their text targets.
+/// The ensemble options as text (--samples --release-dist --seed --release --release-sd
+/// --velocity-sd --wear-bins --threads).
 struct EnsembleText {
   std::string samples = std::to_string(default_samples);
   std::string release_dist = "line";
+  std::string seed = "1";
+  std::string release = "0";
+  std::string release_sd = "0.1";
+  std::string velocity_sd = "0";
+  std::string wear_bins = "0";
   std::string threads = "0";
 };
-void add_ensemble_options(CLI::App& app, EnsembleText& text);
+/// Adds the ensemble options; with `velocity` also --velocity-sd, with `wear` --wear-bins.
+void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity = true, bool wear = true);
+/// The options, validated by the library; throws UsageError.
 EnsembleOptions to_ensemble_options(const EnsembleText& text);
 
 /// Adds --format (json or csv, default json) and --out (default '-': standard output).

@@ -51,7 +51,7 @@ struct BenchCommand {
     if (format != "text" && format != "json") throw UsageError("invalid format = '" + format + "': valid values are text, json");
     const int reps = static_cast<int>(*r);
 
-    // Reference ensemble (issue 5): theta = 60, e = 0.99, mu = 1, beta0 = 0, line release.
+    // Reference ensemble : theta = 60, e = 0.99, mu = 1, beta0 = 0, line release.
     const Params ref = default_params();
     EnsembleResult ens;
     const EnsembleOptions opt{n, ReleaseDist::Line, n_threads, false};

@@ -109,7 +109,7 @@ void add_closed_command(CLI::App& app, const std::string& command_line) {
       "time cap per release, units of sqrt(H/g); " + std::string(valid_range("t-max")) + " (default 1e4 here); beyond it: undecided");
   sub->get_option("--max-collisions")->description(
       "collision cap per release; " + std::string(valid_range("max-collisions")) + " (default 1e7 here); beyond it: undecided");
-  add_ensemble_options(*sub, cmd->ens);
+  add_ensemble_options(*sub, cmd->ens, false, false);
   sub->add_option("--window", cmd->window,
                   "consecutive collisions that must pass the periodic test; integer >= 1 (default 20)")->type_name("K");
   sub->add_option("--slip-tol", cmd->slip_tol, "periodic test: |slip before| <= tol * speed; > 0 (default 1e-6)")->type_name("TOL");

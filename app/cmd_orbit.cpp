@@ -10,6 +10,11 @@ namespace funnel::cli {
 
 namespace {
 
+/// The parameters the period-2 orbit depends on (e = 1, sticking collisions, infinite walls).
+bool orbit_parameter(std::string_view name) {
+  return name == "theta" || name == "beta0" || name == "inertia" || name == "radius";
+}
+
 /// One grid point of the orbit analysis.
 struct OrbitPoint {
   orbit::OrbitParams params;
@@ -25,7 +30,7 @@ struct OrbitCommand {
 
   void run() const {
     for (const auto& [name, text] : model.given) {
-      if (name != "theta" && name != "beta0" && name != "inertia" && name != "radius") {
+      if (!orbit_parameter(name)) {
         throw UsageError("invalid option --" + name + " for funnel orbit: the orbit depends on theta, beta0, inertia, radius only (e = 1, sticking)");
       }
     }
@@ -100,7 +105,9 @@ void add_orbit_command(CLI::App& app, const std::string& command_line) {
   add_model_options(*sub, cmd->model, true);
   // The orbit is for e = 1 and sticking collisions: the other model options are refused in
   // run() with that reason, and not listed by --help.
-  for (const char* name : {"--e", "--mu", "--gap", "--t-max", "--max-collisions"}) sub->get_option(name)->group("");
+  for (const ParameterInfo& p : parameters()) {
+    if (p.option && !orbit_parameter(p.name)) sub->get_option("--" + std::string(p.name))->group("");
+  }
   sub->add_option("--y-star", cmd->y_star,
                   "orbit height y* for the Jacobians (the eigenvalues do not depend on it); > 0 (default 0.5)")
       ->type_name("Y");

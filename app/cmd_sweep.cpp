@@ -19,6 +19,8 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/version.hpp"
 #include "output.hpp"
+#include "output3d.hpp"
+#include "run3d.hpp"
 #include "progress.hpp"
 #include "sweep_config.hpp"
 
@@ -138,6 +140,7 @@ struct SweepCommand {
   bool resume = false;
   bool overwrite = false;
   bool yes = false;
+  std::string space = "2d";
   std::string command_line;
 
   /// Refuses, without --yes, a grid over 10^6 points or an estimated run time over an hour.
@@ -171,22 +174,31 @@ struct SweepCommand {
       if (file.release_dist && !dist_given) merged_ens.release_dist = *file.release_dist;
     }
     if (resume && overwrite) throw UsageError("invalid options: --resume and --overwrite exclude each other");
+    const Space sp = to_space(space);
     const std::vector<Axis> axes = to_axes(merged);
     const EnsembleOptions options = to_ensemble_options(merged_ens);
+    const Ensemble3Options options3 =
+        sp == Space::ThreeD ? to_ensemble3_options(options, dist_given) : Ensemble3Options{};
+    const ReleaseDist dist = sp == Space::ThreeD ? options3.dist : options.dist;
     check_size(axes, options);
     const std::vector<Params> points = expand_grid(default_params(), axes);
-    validate_all(points);
+    validate_all(points, sp);
     const OutputTarget target = resolve_output(out);
 
-    std::vector<std::string> cols = param_columns();
+    std::vector<std::string> cols = param_columns(sp);
     cols.push_back("release_dist");
-    for (const auto& c : ensemble_columns()) cols.push_back(c);
+    for (const auto& c : sp == Space::ThreeD ? ensemble_columns_3d() : ensemble_columns()) cols.push_back(c);
     const std::string header = csv_line(cols);
     // What the rows depend on: a partial file is continued only if this is the same.
     nlohmann::ordered_json spec;
     spec["version"] = version();
+    if (sp == Space::ThreeD) spec["space"] = "3d";
     spec["samples"] = options.samples;
-    spec["release_dist"] = to_string(options.dist);
+    spec["release_dist"] = to_string(dist);
+    spec["seed"] = options.seed;
+    spec["release"] = options.release_mean;
+    spec["release_sd"] = options.release_sd;
+    spec["velocity_sd"] = options.velocity_sd;
     spec["grid"] = nlohmann::ordered_json::array();
     for (const Axis& a : axes) spec["grid"].push_back({{"name", a.name}, {"values", a.values}});
     const std::string spec_line = "# funnel sweep spec: " + spec.dump() + "\n";
@@ -239,13 +251,12 @@ struct SweepCommand {
       }
       int append_error = 0;
       ProgressBar bar("funnel sweep", true);
-      run_sweep(
-          todo, options, [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); },
-          [&](std::size_t k, const EnsembleResult& r) {
+      // One finished point: its row (the statistics' part from 2D or 3D) is kept and appended.
+      auto point_done = [&](std::size_t k, const std::vector<std::string>& stats) {
             const std::size_t i = todo_index[k];
-            std::vector<std::string> row = param_row(points[i]);
-            row.emplace_back(to_string(options.dist));
-            for (const auto& v : ensemble_row(r)) row.push_back(v);
+            std::vector<std::string> row = param_row(points[i], sp);
+            row.emplace_back(to_string(dist));
+            for (const auto& v : stats) row.push_back(v);
             done[i] = csv_line(row);
             if (f != nullptr) {
               const std::string line = std::to_string(i) + "," + done[i];
@@ -254,7 +265,14 @@ struct SweepCommand {
               }
             }
             ++points_saved;
-          });
+          };
+      const auto progress = [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); };
+      if (sp == Space::ThreeD) {
+        run_sweep_3d(todo, options3, progress,
+                     [&](std::size_t k, const Ensemble3Result& r) { point_done(k, ensemble_row(r)); });
+      } else {
+        run_sweep(todo, options, progress, [&](std::size_t k, const EnsembleResult& r) { point_done(k, ensemble_row(r)); });
+      }
       bar.finish(std::to_string(todo.size()) + " of " + total + " points computed");
       if (f != nullptr) std::fclose(f);
       if (append_error != 0) {
@@ -320,8 +338,9 @@ void add_sweep_command(CLI::App& app, const std::string& command_line) {
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand(
       "sweep", "Run one ensemble per point of a parameter grid (Cartesian product of lists/ranges) to CSV.");
-  add_model_options(*sub, cmd->model, true);
-  add_ensemble_options(*sub, cmd->ens);
+  add_model_options(*sub, cmd->model, true, Space::ThreeD);
+  add_space_option(*sub, cmd->space);
+  add_ensemble_options(*sub, cmd->ens, true, false);
   sub->add_option("--config", cmd->config,
                   "TOML file with the grid: model parameters (number, array or \"start:stop:step\") at the top "
                   "level or in a [grid] table, samples, release-dist; command-line options override it")

@@ -1,42 +1,59 @@
 // JSON (nlohmann) and CSV renderings; doubles are written so that they read back bit for bit.
 #include "output.hpp"
 
+#include <cmath>
+
 #include "cli_common.hpp"
+#include "funnel/observables.hpp"
 #include "funnel/version.hpp"
 
 namespace funnel::cli {
 
 namespace {
 
-nlohmann::ordered_json summary_json(const Summary& s) {
-  return {{"mean", s.mean}, {"std", s.std}, {"sem", s.sem}, {"min", s.min}, {"max", s.max}};
+constexpr const char* summary_fields[] = {"mean", "std", "sem", "min", "max"};
+
+/// A JSON number, or null for NaN (an observable that is not defined); -0 is written as 0.
+nlohmann::ordered_json json_number(double x) {
+  if (std::isnan(x)) return nullptr;
+  return x == 0.0 ? 0.0 : x;
 }
 
-/// Statistics reported for an ensemble, in column order.
-struct NamedSummary {
-  const char* name;
-  const Summary EnsembleResult::*member;
-};
-constexpr NamedSummary summaries[] = {
-    {"duration", &EnsembleResult::duration},
-    {"impulse", &EnsembleResult::impulse},
-    {"normal_impulse", &EnsembleResult::normal_impulse},
-    {"energy_loss", &EnsembleResult::energy_loss},
-    {"collisions", &EnsembleResult::collisions},
-    {"edge_collisions", &EnsembleResult::edge_collisions},
-    {"contact_time", &EnsembleResult::contact_time},
-};
-constexpr const char* summary_fields[] = {"mean", "std", "sem", "min", "max"};
+/// A CSV field: empty for NaN, an integer for counts, else the shortest round-trip text.
+std::string field(double x, bool count) {
+  if (std::isnan(x)) return "";
+  if (count) return std::to_string(static_cast<std::int64_t>(x));
+  return number(x);
+}
+
+nlohmann::ordered_json summary_json(const Summary& s) {
+  return {{"mean", json_number(s.mean)}, {"std", json_number(s.std)}, {"sem", json_number(s.sem)},
+          {"min", json_number(s.min)},   {"max", json_number(s.max)}};
+}
+
+/// The statistics of an observable, or NaN throughout when no sample defines it.
+Summary reported(const EnsembleResult& r, const ObservableInfo& o) {
+  if (o.exited_only && r.exited == 0) {
+    const double nan = std::nan("");
+    return {nan, nan, nan, nan, nan};
+  }
+  return r[o.id];
+}
 
 std::string wall_text(const std::optional<Wall>& w) { return w ? std::string(to_string(*w)) : "none"; }
 
 }  // namespace
 
 nlohmann::ordered_json params_json(const Params& p) {
-  return {{"theta", p.theta},   {"e", p.e},           {"mu", p.mu},
-          {"beta0", p.beta0},   {"radius", p.radius}, {"gap", p.gap},
-          {"inertia", p.inertia}, {"t_max", p.t_max}, {"max_collisions", p.max_collisions},
-          {"p_c", p.p_c},       {"eps_rest", p.eps_rest}};
+  nlohmann::ordered_json j;
+  for (const ParameterInfo& info : parameters()) {
+    if (info.integer) {
+      j[info.key()] = static_cast<std::int64_t>(info.get(p));
+    } else {
+      j[info.key()] = json_number(info.get(p));
+    }
+  }
+  return j;
 }
 
 nlohmann::ordered_json provenance_json(const std::string& command_line) {
@@ -44,16 +61,17 @@ nlohmann::ordered_json provenance_json(const std::string& command_line) {
 }
 
 nlohmann::ordered_json trajectory_json(const Trajectory& t) {
-  return {{"status", to_string(t.status)},
-          {"duration", t.duration},
-          {"impulse", t.impulse},
-          {"normal_impulse", t.normal_impulse},
-          {"energy_loss", t.energy_loss},
-          {"collisions", t.collisions},
-          {"edge_collisions", t.edge_collisions},
-          {"face_collisions", t.collisions - t.edge_collisions},
-          {"contacts", t.contacts},
-          {"contact_time", t.contact_time}};
+  nlohmann::ordered_json j;
+  j["status"] = to_string(t.status);
+  for (const ObservableInfo& o : observables()) {
+    const double v = value(t, o.id);
+    if (o.count) {
+      j[std::string(o.name)] = static_cast<std::int64_t>(v);
+    } else {
+      j[std::string(o.name)] = json_number(v);
+    }
+  }
+  return j;
 }
 
 std::vector<std::string> event_columns() {
@@ -104,26 +122,73 @@ nlohmann::ordered_json event_json(const Event& e) {
 nlohmann::ordered_json ensemble_json(const EnsembleResult& r) {
   nlohmann::ordered_json j;
   j["samples"] = r.samples;
-  for (const auto& s : summaries) j[s.name] = summary_json(r.*(s.member));
+  for (const ObservableInfo& o : observables()) {
+    if (o.summarized) j[std::string(o.name)] = summary_json(reported(r, o));
+  }
   j["status_counts"] = {{"exited", r.exited}, {"rest", r.rest}, {"trapped", r.trapped}};
   j["total_collisions"] = r.total_collisions;
+  j["simulated_collisions"] = r.simulated_collisions;
+  if (r.wear.bins > 0) j["wear"] = wear_json(r.wear);
   return j;
 }
 
+nlohmann::ordered_json wear_json(const Wear& w) {
+  nlohmann::ordered_json j;
+  for (const Wall wall : {Wall::Left, Wall::Right}) {
+    const WallWear& ww = w[wall];
+    nlohmann::ordered_json side;
+    std::vector<double> s;
+    for (int k = 0; k < w.bins; ++k) s.push_back((k + 0.5) * w.bin_width);
+    side["s"] = s;
+    side["collisions"] = ww.collisions;
+    side["normal_impulse"] = ww.normal_impulse;
+    side["impulse"] = ww.impulse;
+    side["edge"] = {{"collisions", ww.edge_collisions},
+                    {"normal_impulse", ww.edge_normal_impulse},
+                    {"impulse", ww.edge_impulse}};
+    j[std::string(to_string(wall))] = side;
+  }
+  j["bin_width"] = w.bin_width;
+  return j;
+}
+
+std::string wear_csv(const Wear& w) {
+  std::string text = csv_line({"wall", "bin", "s", "collisions", "normal_impulse", "impulse"});
+  for (const Wall wall : {Wall::Left, Wall::Right}) {
+    const WallWear& ww = w[wall];
+    const std::string name(to_string(wall));
+    for (int k = 0; k < w.bins; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      text += csv_line({name, std::to_string(k), number((k + 0.5) * w.bin_width), number(ww.collisions[i]),
+                        number(ww.normal_impulse[i]), number(ww.impulse[i])});
+    }
+    text += csv_line({name, "edge", "0", number(ww.edge_collisions), number(ww.edge_normal_impulse),
+                      number(ww.edge_impulse)});
+  }
+  return text;
+}
+
 std::vector<std::string> param_columns() {
-  return {"theta", "e", "mu", "beta0", "radius", "gap", "inertia", "t_max", "max_collisions"};
+  std::vector<std::string> cols;
+  for (const ParameterInfo& p : parameters()) {
+    if (p.option) cols.push_back(p.key());
+  }
+  return cols;
 }
 
 std::vector<std::string> param_row(const Params& p) {
-  return {number(p.theta),  number(p.e),   number(p.mu),      number(p.beta0),
-          number(p.radius), number(p.gap), number(p.inertia), number(p.t_max),
-          std::to_string(p.max_collisions)};
+  std::vector<std::string> row;
+  for (const ParameterInfo& info : parameters()) {
+    if (info.option) row.push_back(field(info.get(p), info.integer));
+  }
+  return row;
 }
 
 std::vector<std::string> ensemble_columns() {
   std::vector<std::string> cols{"samples"};
-  for (const auto& s : summaries) {
-    for (const char* f : summary_fields) cols.push_back(std::string(s.name) + "_" + f);
+  for (const ObservableInfo& o : observables()) {
+    if (!o.summarized) continue;
+    for (const char* f : summary_fields) cols.push_back(std::string(o.name) + "_" + f);
   }
   for (const char* c : {"exited", "rest", "trapped", "total_collisions"}) cols.emplace_back(c);
   return cols;
@@ -131,23 +196,25 @@ std::vector<std::string> ensemble_columns() {
 
 std::vector<std::string> ensemble_row(const EnsembleResult& r) {
   std::vector<std::string> row{std::to_string(r.samples)};
-  for (const auto& s : summaries) {
-    const Summary& v = r.*(s.member);
-    for (const double x : {v.mean, v.std, v.sem, v.min, v.max}) row.push_back(number(x));
+  for (const ObservableInfo& o : observables()) {
+    if (!o.summarized) continue;
+    const Summary v = reported(r, o);
+    for (const double x : {v.mean, v.std, v.sem, v.min, v.max}) row.push_back(field(x, false));
   }
   for (const std::int64_t c : {r.exited, r.rest, r.trapped, r.total_collisions}) row.push_back(std::to_string(c));
   return row;
 }
 
 std::vector<std::string> trajectory_columns() {
-  return {"status", "duration", "impulse", "normal_impulse", "energy_loss", "collisions",
-          "edge_collisions", "face_collisions", "contacts", "contact_time"};
+  std::vector<std::string> cols{"status"};
+  for (const ObservableInfo& o : observables()) cols.emplace_back(o.name);
+  return cols;
 }
 
 std::vector<std::string> trajectory_row(const Trajectory& t) {
-  return {std::string(to_string(t.status)), number(t.duration), number(t.impulse), number(t.normal_impulse),
-          number(t.energy_loss), std::to_string(t.collisions), std::to_string(t.edge_collisions),
-          std::to_string(t.collisions - t.edge_collisions), std::to_string(t.contacts), number(t.contact_time)};
+  std::vector<std::string> row{std::string(to_string(t.status))};
+  for (const ObservableInfo& o : observables()) row.push_back(field(value(t, o.id), o.count));
+  return row;
 }
 
 std::string csv_line(const std::vector<std::string>& fields) {

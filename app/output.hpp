@@ -1,4 +1,5 @@
-// JSON and CSV renderings of parameters, trajectories, events and ensembles.
+// JSON and CSV renderings of parameters, trajectories, events, ensembles and wear, all driven
+// by the library's parameter and observable tables.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -9,31 +10,39 @@
 #include "funnel/engine.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/params.hpp"
+#include "funnel/wear.hpp"
 
 namespace funnel::cli {
 
-/// {"theta": ..., "e": ..., ..., "max_collisions": ...}.
+/// Every parameter by its output key: {"theta": ..., "e": ..., ..., "eps_rest": ...}.
 nlohmann::ordered_json params_json(const Params& p);
 /// {"version": ..., "git_commit": ..., "command": ...}: what is needed to regenerate an output.
 nlohmann::ordered_json provenance_json(const std::string& command_line);
-/// Observables of one trajectory, without params and events.
+/// Observables of one trajectory, without params and events (exit ones null if it did not exit).
 nlohmann::ordered_json trajectory_json(const Trajectory& t);
 /// One event of the log.
 nlohmann::ordered_json event_json(const Event& e);
-/// {"samples", "duration": {"mean","std","sem","min","max"}, ..., "status_counts": {...}}.
+/// {"samples", "duration": {"mean","std","sem","min","max"}, ..., "status_counts": {...}}; the
+/// exit observables are over the exited samples (null when none exited).
 nlohmann::ordered_json ensemble_json(const EnsembleResult& r);
+/// {"left": {"s", "collisions", "normal_impulse", "impulse", "edge": {...}}, "right": {...}, "bin_width"}.
+nlohmann::ordered_json wear_json(const Wear& w);
+/// The wear as CSV: one row per wall and bin (bin "edge" for the edge point).
+std::string wear_csv(const Wear& w);
 
 /// Column names of an event log row.
 std::vector<std::string> event_columns();
 /// One event as CSV fields (in event_columns() order).
 std::vector<std::string> event_row(const Event& e);
 
-/// Column names of the parameter part of a row, then of the statistics part.
+/// Column names of the parameter part of a row (the command-line parameters), then their values.
 std::vector<std::string> param_columns();
 std::vector<std::string> param_row(const Params& p);
+/// Column names of an ensemble's statistics (<observable>_<stat>, then the counts), then values.
 std::vector<std::string> ensemble_columns();
 std::vector<std::string> ensemble_row(const EnsembleResult& r);
-/// Column names and values of one trajectory's observables.
+/// Column names and values of one trajectory's observables (status first; exit ones empty if
+/// it did not exit).
 std::vector<std::string> trajectory_columns();
 std::vector<std::string> trajectory_row(const Trajectory& t);
 

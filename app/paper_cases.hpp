@@ -1,4 +1,4 @@
-// The paper's figures as data: one TOML file per figure under paper/ (MODEL.md §11).
+// The paper's figures as data: one TOML file per figure under paper/ (docs/paper.md).
 #pragma once
 
 #include <toml++/toml.h>

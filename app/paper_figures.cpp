@@ -1,6 +1,8 @@
 // Data and claim checks of each kind of figure (see paper/*.toml and docs/paper.md).
 #include "paper_figures.hpp"
 
+#include "funnel/observables.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,46 +13,21 @@
 #include "funnel/engine.hpp"
 #include "funnel/orbit.hpp"
 #include "output.hpp"
+#include "paper_cone3d.hpp"
+#include "paper_designer.hpp"
 #include "paper_orbits.hpp"
+#include "paper_util.hpp"
 
 namespace funnel::cli {
 
 namespace {
 
-std::string fmt(double x, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::ordered_json verdict(const std::string& claim, const std::string& measured, bool holds) {
-  return {{"claim", claim}, {"measured", measured}, {"holds", holds}};
-}
-
-/// One panel per value, labelled "<symbol> = <value><unit>": ids a, b, c, ...
-nlohmann::ordered_json value_panels(const std::vector<double>& values, const std::string& symbol, const std::string& unit) {
-  nlohmann::ordered_json panels = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    panels.push_back({{"id", std::string(1, static_cast<char>('a' + i))}, {"label", symbol + " = " + fmt(values[i]) + unit}});
-  }
-  return panels;
-}
-
-std::string claim_of(const FigureSpec& fig) { return fig.check["claim"].value_or(std::string()); }
-double check_number(const FigureSpec& fig, const char* key, double fallback) {
-  return fig.check[key].value<double>().value_or(fallback);
-}
-
 ReleaseDist dist_of(const std::string& text) { return *parse_release_dist(text); }
 
 /// Mean of an observable ("duration", "impulse", "energy_loss", ...) in an ensemble result.
 double mean_of(const EnsembleResult& r, const std::string& observable) {
-  if (observable == "duration") return r.duration.mean;
-  if (observable == "impulse") return r.impulse.mean;
-  if (observable == "normal_impulse") return r.normal_impulse.mean;
-  if (observable == "energy_loss") return r.energy_loss.mean;
-  if (observable == "collisions") return r.collisions.mean;
-  return std::nan("");
+  const ObservableInfo* o = find_observable(observable);
+  return o != nullptr ? r[o->id].mean : std::nan("");
 }
 
 // ---- theta sweeps (Figs. 2-6, 13) ----
@@ -434,6 +411,8 @@ FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int th
   if (fig.kind == "period2_orbits") return period2_orbits(fig);
   if (fig.kind == "retrace_orbits") return retrace_orbits(fig, threads);
   if (fig.kind == "retrace_windows") return retrace_windows(fig, cache, threads);
+  if (fig.kind == "wear_profiles") return wear_profiles(fig, threads, progress);
+  if (fig.kind == "cone_3d_sweep") return cone_3d_sweep(fig, threads, progress);
   throw UsageError("invalid figure definition '" + fig.source + "': unknown kind '" + fig.kind + "'");
 }
 

@@ -12,31 +12,12 @@
 #include "funnel/orbit.hpp"
 #include "funnel/retrace.hpp"
 #include "output.hpp"
+#include "paper_util.hpp"
 #include "retrace_output.hpp"
 
 namespace funnel::cli {
 
 namespace {
-
-std::string fmt(double x, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::ordered_json verdict(const std::string& claim, const std::string& measured, bool holds) {
-  return {{"claim", claim}, {"measured", measured}, {"holds", holds}};
-}
-
-std::string claim_of(const FigureSpec& fig) { return fig.check["claim"].value_or(std::string()); }
-
-double check_number_or(const FigureSpec& fig, const char* key, double fallback) {
-  return fig.check[key].value<double>().value_or(fallback);
-}
-
-double setting(const FigureSpec& fig, const char* key, double fallback) {
-  return fig.settings[key].value<double>().value_or(fallback);
-}
 
 std::string setting_text(const FigureSpec& fig, const char* key, const std::string& fallback) {
   return fig.settings[key].value<std::string>().value_or(fallback);
@@ -376,8 +357,8 @@ FigureData retrace_windows(const FigureSpec& fig, const SweepCache& cache, int t
   for (const Params& p : expand_grid(base, fig.grid)) {
     const EnsembleResult& r = cache.get(p, *parse_release_dist(fig.dists.front()), fig.samples);
     theta.push_back(p.theta);
-    mean.push_back(r.duration.mean);
-    sem.push_back(r.duration.sem);
+    mean.push_back(r[Observable::Duration].mean);
+    sem.push_back(r[Observable::Duration].sem);
   }
   const double h = theta.size() > 1 ? theta[1] - theta[0] : 1.0;
   // The orbits: found in the closed funnel, then carried over to the figure's (open) funnel,
@@ -394,9 +375,9 @@ FigureData retrace_windows(const FigureSpec& fig, const SweepCache& cache, int t
     if (w.stable) stable.push_back(w);
   }
 
-  const double above = check_number_or(fig, "above", 45.0);
-  const double half = check_number_or(fig, "median_halfwidth", 5.0);
-  const double min_ratio = check_number_or(fig, "min_ratio", 1.3);
+  const double above = check_number(fig, "above", 45.0);
+  const double half = check_number(fig, "median_halfwidth", 5.0);
+  const double min_ratio = check_number(fig, "min_ratio", 1.3);
   const std::vector<double> baseline = running_median(theta, mean, half);
   std::vector<Peak> peaks;
   std::vector<bool> covered(theta.size(), false), elevated(theta.size(), false);
@@ -458,8 +439,8 @@ FigureData retrace_windows(const FigureSpec& fig, const SweepCache& cache, int t
                          {"theta_count", setup.thetas.size()}, {"max_bounces", setup.options.max_bounces},
                          {"scan_points", setup.options.scan_points}, {"turns", setting_text(fig, "turns", "wall")},
                          {"gap", base.gap}};
-  const double min_share = check_number_or(fig, "min_share", 0.5);
-  const double min_contrast = check_number_or(fig, "min_contrast", 1.5);
+  const double min_share = check_number(fig, "min_share", 0.5);
+  const double min_contrast = check_number(fig, "min_contrast", 1.5);
   out.check = verdict(claim_of(fig),
                       std::to_string(explained) + " of " + std::to_string(peaks.size()) +
                           " peaks above " + fmt(above) + "° lie in a stability window: " + list +

@@ -76,8 +76,8 @@ int sigma(int argc, char** argv) {
   }
   std::printf(
       "theta,sigma,samples,duration_mean,duration_sem,impulse_mean,impulse_sem,energy_loss_mean,energy_loss_sem,"
-      "exited,trapped,periodic,duration_exited_mean,duration_exited_sem,impulse_exited_mean,energy_loss_exited_mean,"
-      "orbits_mean,collisions_mean,contact_time_mean,ode_steps,wall_s\n");
+      "exited,trapped,periodic,orbits_mean,collisions_mean,contact_time_mean,ode_steps,wall_s\n");
+  using funnel::Observable;
   for (const double s : sigmas) {
     for (const double theta : thetas) {
       funnel::Params p = base;
@@ -85,12 +85,12 @@ int sigma(int argc, char** argv) {
       o.velocity_sd = s;
       const auto t0 = std::chrono::steady_clock::now();
       const funnel::Ensemble3Result r = funnel::run_ensemble_3d(p, o);
-      std::printf("%g,%g,%lld,%.8g,%.4g,%.8g,%.4g,%.8g,%.4g,%lld,%lld,%lld,%.8g,%.4g,%.8g,%.8g,%.6g,%.6g,%.6g,%lld,%.2f\n",
-                  theta, s, static_cast<long long>(r.samples), r.duration.mean, r.duration.sem, r.impulse.mean,
-                  r.impulse.sem, r.energy_loss.mean, r.energy_loss.sem, static_cast<long long>(r.exited),
-                  static_cast<long long>(r.trapped), static_cast<long long>(r.periodic), r.duration_exited.mean,
-                  r.duration_exited.sem, r.impulse_exited.mean, r.energy_loss_exited.mean, r.orbits.mean,
-                  r.collisions.mean, r.contact_time.mean, static_cast<long long>(r.ode_steps), seconds_since(t0));
+      std::printf("%g,%g,%lld,%.8g,%.4g,%.8g,%.4g,%.8g,%.4g,%lld,%lld,%lld,%.6g,%.6g,%.6g,%lld,%.2f\n", theta, s,
+                  static_cast<long long>(r.samples), r[Observable::Duration].mean, r[Observable::Duration].sem,
+                  r[Observable::Impulse].mean, r[Observable::Impulse].sem, r[Observable::EnergyLoss].mean,
+                  r[Observable::EnergyLoss].sem, static_cast<long long>(r.exited), static_cast<long long>(r.trapped),
+                  static_cast<long long>(r.periodic), r[Observable::Orbits].mean, r[Observable::Collisions].mean,
+                  r[Observable::ContactTime].mean, static_cast<long long>(r.ode_steps), seconds_since(t0));
       std::fflush(stdout);
     }
   }

@@ -1,24 +1,33 @@
 // libFuzzer target: Walton's collision law and whole trajectories over the valid parameter space.
 //
-// The fuzz bytes are mapped into valid ranges (MODEL.md §1), with extra weight on the ends of
+// The fuzz bytes are mapped into valid ranges (docs/model.md §1), with extra weight on the ends of
 // each range. Invariants checked (any violation aborts, which libFuzzer reports as a crash):
 //  - collide: finite output; kinetic energy never increases; the closed-form energy loss equals
 //    the loss computed from the states; |J_t| <= mu J_N; sliding has |J_t| = mu J_N; sticking
 //    gives s' = -beta0 s.
-//  - simulate_release (max 20000 collisions, t_max <= 1e3): finite observables; a valid status;
-//    energy never increases; E_0 - E_end equals the sum of the events' losses; the final state
-//    is inside the funnel (above both centre lines when above the face ends, on y_b when exited,
-//    between the edges); the Zeno guard never fires; the mirror release gives the mirror result
-//    bit for bit (line ensembles rely on it).
+//  - edge_contact: finite output; the end on the edge circle, inside the arc; no energy gained;
+//    |integral F dt| <= mu integral N dt; a take-off where the normal force has fallen to 0.
+//  - simulate_release (max 20000 collisions, t_max <= 1e3, any release height, velocity and
+//    spin): finite observables; a valid status; energy never increases; E_0 - E_end equals the
+//    sum of the events' losses; the final state is inside the funnel; every free flight rebuilt
+//    from the event log stays clear of the faces and the edges (funnel::audit_flights) and every
+//    exit lies between the edges; the exit state balances the energy; the wear bins sum to the
+//    totals; the Zeno guard never fires; the mirror release gives the mirror result bit for bit
+//    (line ensembles rely on it).
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
+#include "funnel/audit.hpp"
+#include "funnel/edge_contact.hpp"
 #include "funnel/engine.hpp"
 #include "funnel/geometry.hpp"
+#include "funnel/observables.hpp"
+#include "funnel/wear.hpp"
 #include "funnel/params.hpp"
 #include "funnel/walton.hpp"
 
@@ -138,6 +147,37 @@ void check_collision(FuzzedDataProvider& f) {
   }
 }
 
+/// One sustained edge contact from an arbitrary start on the circle.
+void check_edge_contact(FuzzedDataProvider& f) {
+  Material m = pick_material(f);
+  const double top = uniform(f, 0.0, 3.14159);
+  const double psi = top - uniform(f, 0.0, top);
+  const double rate = (f.ConsumeBool() ? 1.0 : -1.0) * std::sqrt(std::sin(psi) / m.radius) * f.ConsumeProbability<double>();
+  const double omega = rate + uniform(f, -1.0, 1.0) * log_uniform(f, -6.0, 3.0) / m.radius;
+  std::snprintf(context, sizeof context, "edge_contact: mu=%.17g kappa=%.17g radius=%.17g psi=%.17g rate=%.17g omega=%.17g top=%.17g",
+                m.mu, m.kappa, m.radius, psi, rate, omega, top);
+  State s;
+  s.r = {m.radius * std::cos(psi), m.radius * std::sin(psi)};
+  s.v = {-m.radius * rate * std::sin(psi), m.radius * rate * std::cos(psi)};
+  s.omega = omega;
+  if (!(funnel::edge_normal_force(s, {0.0, 0.0}, m.radius) > 0.0)) return;
+  const funnel::EdgeContactResult r = funnel::edge_contact(s, {{0.0, 0.0}, top - 3.141592653589793, top}, m);
+  require(finite(r.end) && std::isfinite(r.duration) && std::isfinite(r.impulse) && r.duration >= 0.0,
+          "edge_contact: non-finite output");
+  const double dist = std::hypot(r.end.r.x, r.end.r.y);
+  require(std::fabs(dist - m.radius) <= 1e-12 * m.radius, "edge_contact: end off the circle", dist, m.radius);
+  const double k0 = funnel::energy(s, m.kappa, m.radius);
+  require(r.energy_lost >= -1e-12 * std::fmax(1.0, std::fabs(k0)), "edge_contact: energy gained", r.energy_lost);
+  require(std::fabs(r.tangential_impulse) <= m.mu * r.normal_impulse * (1.0 + 1e-9) + 1e-300 ||
+              r.last_regime == funnel::Regime::Rolling || r.first_regime == funnel::Regime::Rolling,
+          "edge_contact: friction outside the Coulomb cone", r.tangential_impulse, r.normal_impulse);
+  if (r.exit == funnel::EdgeExit::TakeOff) {
+    const double n = funnel::edge_normal_force(r.end, {0.0, 0.0}, m.radius);
+    require(std::fabs(n) <= 1e-6 * std::fmax(1.0, funnel::dot(r.end.v, r.end.v) / m.radius) || r.phases >= 64,
+            "edge_contact: take-off with a normal force", n);
+  }
+}
+
 /// Valid parameters from the fuzz bytes, or false when validate() rejects them.
 bool pick_params(FuzzedDataProvider& f, Params& p) {
   p = funnel::default_params();
@@ -150,10 +190,17 @@ bool pick_params(FuzzedDataProvider& f, Params& p) {
   p.gap = f.ConsumeBool() ? 0.0 : 2.0 * p.radius * (1.0 + log_uniform(f, -12.0, 4.0));
   p.t_max = log_uniform(f, -3.0, 3.0);
   p.max_collisions = f.ConsumeIntegralInRange<std::int64_t>(1, 20000);
+  if (f.ConsumeBool()) {  // a release of the designer's: height, velocity and spin
+    p.release_height = log_uniform(f, -3.0, 1.0);
+    p.release_u = uniform(f, -1.0, 1.0) * log_uniform(f, -6.0, 1.0);
+    p.release_v = uniform(f, -1.0, 1.0) * log_uniform(f, -6.0, 1.0);
+    p.release_spin = uniform(f, -1.0, 1.0) * log_uniform(f, -6.0, 1.0) / p.radius;
+  }
   return !funnel::validate(p);
 }
 
-void check_trajectory(const Params& p, const Geometry& g, const Trajectory& t) {
+void check_trajectory(const Params& p, const Geometry& g, const State& release, const Trajectory& t,
+                      const std::vector<funnel::Event>& events, const funnel::Wear& wear) {
   require(t.status == Status::Exited || t.status == Status::Rest || t.status == Status::Trapped, "bad status");
   require(std::isfinite(t.duration) && std::isfinite(t.impulse) && std::isfinite(t.normal_impulse) &&
               std::isfinite(t.energy_loss) && std::isfinite(t.energy_loss_events) &&
@@ -188,14 +235,33 @@ void check_trajectory(const Params& p, const Geometry& g, const Trajectory& t) {
           "energy loss != sum of the events' losses", t.energy_loss, t.energy_loss_events);
 
   const State& s = t.final_state;
-  const double tol = 1e-9 * std::fmax(scale, g.half_width);
-  require(s.r.y <= g.y_release + tol, "final state above the release height", s.r.y, g.y_release);
+  const double e0 = funnel::energy(release, p.inertia, p.radius);
+  const double tol = 1e-9 * std::fmax(std::fmax(scale, std::fabs(e0)), g.half_width);
+  require(s.r.y <= e0 + tol, "final state above the height its energy allows", s.r.y, e0);
+  // Every free flight, rebuilt from the event log, stays clear of the faces and the edges, and
+  // every exit is between the edges (docs/model.md §5b).
+  const funnel::FlightAudit audit = funnel::audit_flights(g, release, events);
+  require(audit.edge_overlaps == 0, "a flight came closer than a to an edge point", audit.min_edge_distance);
+  require(audit.face_crossings == 0, "a flight went behind a face", audit.max_face_depth);
+  require(audit.exits_outside == 0, "an exit outside the gap");
+  // The wear record sums to the totals.
+  double wear_normal = 0.0, wear_collisions = 0.0;
+  for (const funnel::WallWear& ww : wear.walls) {
+    for (const double x : ww.normal_impulse) wear_normal += x;
+    for (const double x : ww.collisions) wear_collisions += x;
+    wear_normal += ww.edge_normal_impulse;
+    wear_collisions += ww.edge_collisions;
+  }
+  require(wear_collisions == static_cast<double>(t.collisions), "wear collisions != collisions", wear_collisions);
+  require(std::fabs(wear_normal - t.normal_impulse) <= 1e-9 * std::fmax(1.0, t.normal_impulse),
+          "wear normal impulse != normal impulse", wear_normal, t.normal_impulse);
   if (t.status == Status::Exited) {
     require(s.r.y == g.y_bottom, "exited off the exit level", s.r.y, g.y_bottom);
-    // Between the edges, except that a particle left with a normal speed below p_c on an edge
-    // (and |v|^2 < a) flies through the corner it would roll over (MODEL.md, Edges): by at most
-    // |v| (|v| + sqrt(|v|^2 + 2a)) < 3a beyond the edge point.
-    require(std::fabs(s.r.x) <= g.half_gap + 3.0 * g.radius, "exited outside the gap", s.r.x, g.half_gap);
+    require(std::fabs(s.r.x) <= g.half_gap - g.radius * (1.0 - 1e-9), "exited outside the gap", s.r.x, g.half_gap);
+    // The exit state balances the energy.
+    const double at_exit = funnel::energy(t.exit_state, p.inertia, p.radius);
+    require(std::fabs(at_exit - (e0 - t.energy_loss)) <= 1e-9 * std::fmax(1.0, std::fabs(e0)),
+            "exit state does not balance the energy", at_exit, e0 - t.energy_loss);
   } else if (t.status == Status::Rest) {
     // At the vertex: exactly after a sustained contact, else within the energy eps_rest above it.
     require(s.r.y >= -tol && s.r.y <= p.eps_rest + tol, "rest away from the vertex", s.r.x, s.r.y);
@@ -204,7 +270,7 @@ void check_trajectory(const Params& p, const Geometry& g, const Trajectory& t) {
       require(funnel::face_distance(g, wall, s.r) >= -tol, "final state behind a centre line", s.r.x, s.r.y);
     }
   } else {
-    require(s.r.y >= g.y_bottom - tol && std::fabs(s.r.x) <= g.half_gap + 3.0 * g.radius, "final state outside the throat",
+    require(s.r.y >= g.y_bottom - tol && std::fabs(s.r.x) <= g.half_gap, "final state outside the throat",
             s.r.x, s.r.y);
   }
 }
@@ -219,6 +285,10 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
               a.final_state.v.x == -b.final_state.v.x && a.final_state.v.y == b.final_state.v.y &&
               a.final_state.omega == -b.final_state.omega,
           "mirror release ends in a non-mirror state", a.final_state.r.x, b.final_state.r.x);
+  require(a.edge_contacts == b.edge_contacts && a.exit_state.r.x == -b.exit_state.r.x &&
+              a.exit_state.v.x == -b.exit_state.v.x && a.exit_state.v.y == b.exit_state.v.y &&
+              a.exit_state.omega == -b.exit_state.omega,
+          "mirror release exits in a non-mirror state", a.exit_state.r.x, b.exit_state.r.x);
 }
 
 }  // namespace
@@ -226,6 +296,7 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzedDataProvider f(data, size);
   check_collision(f);
+  check_edge_contact(f);
 
   Params p;
   if (!pick_params(f, p)) return 0;
@@ -234,13 +305,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!(fraction > -1.0 && fraction < 1.0)) return 0;
   std::snprintf(context, sizeof context,
                 "--theta %.17g --e %.17g --mu %.17g --beta0 %.17g --inertia %.17g --radius %.17g --gap %.17g "
-                "--t-max %.17g --max-collisions %lld --release %.17g",
+                "--t-max %.17g --max-collisions %lld --release %.17g --release-height %.17g --release-u %.17g "
+                "--release-v %.17g --release-spin %.17g",
                 p.theta, p.e, p.mu, p.beta0, p.inertia, p.radius, p.gap, p.t_max,
-                static_cast<long long>(p.max_collisions), fraction);
+                static_cast<long long>(p.max_collisions), fraction, p.release_height, p.release_u, p.release_v,
+                p.release_spin);
   const Geometry g = funnel::make_geometry(p);
-  const Trajectory t = funnel::simulate_release(p, g, fraction);
-  check_trajectory(p, g, t);
-  // A release on the axis is its own mirror image; a tie between the walls goes to the left one.
-  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(p, g, -fraction));
+  funnel::EventLog log;
+  funnel::Wear wear = funnel::Wear::make(g, 7);
+  const Trajectory t = funnel::simulate_release(p, g, fraction, &log, &wear);
+  check_trajectory(p, g, funnel::release_state(p, g, fraction), t, log.events, wear);
+  // A release on the axis at rest is its own mirror image; a tie between the walls goes to the
+  // left one. The mirror release has its horizontal velocity and spin negated too.
+  Params mirror = p;
+  mirror.release_u = 0.0 - p.release_u;
+  mirror.release_spin = 0.0 - p.release_spin;
+  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, g, -fraction));
   return 0;
 }

@@ -7,7 +7,7 @@ FUNNEL_PACKAGES=(
   build-essential cmake git pkg-config
   libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libboost-dev
   libgtest-dev libbenchmark-dev
-  python3-dev pybind11-dev python3-numpy python3-matplotlib python3-pytest
+  python3-dev pybind11-dev python3-numpy python3-matplotlib python3-pytest python3-tqdm
   python3-pil chromium  # GIF animations (funnel.animate); the report's test in a headless browser
   clang libclang-rt-14-dev libomp-14-dev llvm-14  # fuzz/: libFuzzer, OpenMP for clang, llvm-symbolizer
 )

@@ -1,4 +1,4 @@
-// Classification of the long-time state of a closed funnel (MODEL.md §10).
+// Classification of the long-time state of a closed funnel (docs/theory.md).
 #include "funnel/closed.hpp"
 
 #include <omp.h>
@@ -86,7 +86,7 @@ ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, c
   r.samples.resize(static_cast<std::size_t>(n));
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(ensemble.threads))
   for (std::int64_t k = 0; k < n; ++k) {
-    r.samples[static_cast<std::size_t>(k)] = classify_release(params, release_fraction(ensemble.dist, k, n), options);
+    r.samples[static_cast<std::size_t>(k)] = classify_release(params, sample_fraction(ensemble, k), options);
   }
   for (const ClosedSample& s : r.samples) {
     r.periodic += s.state == FinalState::Periodic;

@@ -1,4 +1,4 @@
-// Closed-form sliding and rolling along a face (MODEL.md §5).
+// Closed-form sliding and rolling along a face (docs/model.md §5).
 #include "funnel/contact.hpp"
 
 #include <cmath>

@@ -7,6 +7,7 @@
 //   spin              kappa a omega' = F
 //   slip              s = a (omega - psi')
 //   about E           a^2 psi' + kappa a^2 omega = L0 - a G,  G = integral of cos(psi) dt
+// (the last is the angular momentum about the edge point, which only gravity's torque changes).
 // Rolling (s = 0, F = -kappa cos(psi)/(1 + kappa)) conserves (1 + kappa) a^2 W / 2 + a sin(psi);
 // sliding (F = -sigma mu N) gives the linear equation dW/dpsi + 2 sigma mu W =
 // (2/a)(sigma mu sin(psi) - cos(psi)), solved in closed form. So W, N and the rolling friction
@@ -36,6 +37,8 @@ namespace {
 constexpr int max_phases = 64;
 /// Samples of the closed-form event functions over a phase's range of angles.
 constexpr int event_samples = 32;
+/// At most this many geometric samples precede them in a fast-changing sliding phase.
+constexpr int max_geometric_samples = 24;
 /// Pieces of a sliding phase at whose ends the slip is checked for a zero.
 constexpr int slip_pieces = 8;
 /// Relative accuracy of every quadrature (of its L1 norm), below the 1e-13 the model asks for.
@@ -72,7 +75,8 @@ struct Branch {
     // Beyond the end of a sliding phase the homogeneous part may grow without bound (large mu);
     // the cap keeps it finite (the phase ends long before).
     const double arg = std::fmin(-k * delta, 700.0);
-    return d_particular + w_r + (w_r - particular_r) * std::expm1(arg);
+    const double w = d_particular + w_r + (w_r - particular_r) * std::expm1(arg);
+    return std::clamp(w, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
   }
 
   double normal(double psi, double w) const { return std::sin(psi) - a * w; }
@@ -252,11 +256,21 @@ class Contact {
 
     // The closed-form events (take-off, turning point, loss of rolling): sample the range
     // towards the arc's end and refine the first bracket of each function.
+    // A sliding phase with a large |k (limit - psi_a)| (large mu) changes on the scale 1/|k|:
+    // geometric samples at |k| offset = 1/4, 1/2, 1, ... come before the uniform ones, so that
+    // its events are bracketed where the exponential is still finite.
+    std::array<double, event_samples + max_geometric_samples> fractions{};
+    int samples = 0;
+    const double k_span = std::fabs(b.k * (limit - psi_a));
+    for (double q = 0.25; q < k_span / event_samples && samples < max_geometric_samples; q *= 2.0) {
+      fractions[samples++] = q / k_span;
+    }
+    for (int j = 1; j <= event_samples; ++j) fractions[samples++] = static_cast<double>(j) / event_samples;
     PhaseEnd why = PhaseEnd::Limit;
     double psi_b = limit;
     double prev = psi_a;
-    for (int j = 1; j <= event_samples && why == PhaseEnd::Limit; ++j) {
-      const double psi = j == event_samples ? limit : psi_a + (limit - psi_a) * j / event_samples;
+    for (int j = 0; j < samples && why == PhaseEnd::Limit; ++j) {
+      const double psi = j == samples - 1 ? limit : psi_a + (limit - psi_a) * fractions[j];
       auto check = [&](const auto& f, PhaseEnd kind) {
         const double f_to = f(psi);
         if (!(f_to <= 0.0)) return;
@@ -304,11 +318,13 @@ class Contact {
     Quadrature<decltype(integrand)> integrate(integrand, m_.mu);
     Vec4 total{};
     double x_end = 1.0;
-    const double l0 = a_ * a_ * rate() + m_.kappa * a_ * a_ * omega_;  // angular momentum about E
+    // While sliding the friction torque is the only one: kappa a omega' = F = -sigma mu N, so the
+    // spin follows from the normal impulse (exactly unchanged when mu = 0).
+    const double omega_a = omega_;
+    auto spin_after = [&](const Vec4& acc) { return omega_a - b.sigma * m_.mu * acc[2] / (m_.kappa * a_); };
     auto slip = [&](const Vec4& acc, double x) {
       const double w = x == 1.0 ? w_b : std::fmax(w_at(x), 0.0);
-      const double rate_x = dir_ * std::sqrt(w);
-      return (l0 - a_ * acc[1]) / (m_.kappa * a_) - a_ * rate_x * (1.0 + m_.kappa) / m_.kappa;
+      return a_ * (spin_after(acc) - dir_ * std::sqrt(w));
     };
     if (span != 0.0) {
       const int pieces = b.regime == Regime::Sliding ? slip_pieces : 1;
@@ -349,7 +365,7 @@ class Contact {
       omega_ = rate();
     } else {
       res_.tangential_impulse += -b.sigma * m_.mu * total[2];
-      omega_ = (l0 - a_ * total[1]) / (m_.kappa * a_ * a_) - rate() / m_.kappa;
+      omega_ = spin_after(total);
     }
     return why;
   }

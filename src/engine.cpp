@@ -1,7 +1,8 @@
-// The event loop of one trajectory (MODEL.md §3-7).
+// The event loop of one trajectory (docs/model.md §3-7).
 #include "funnel/engine.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "funnel/contact.hpp"
@@ -51,9 +52,9 @@ namespace {
 /// wall's, so that the engine stays exactly mirror symmetric.
 State mirror(const State& s) {
   State m = s;
-  m.r.x = -s.r.x;
-  m.v.x = -s.v.x;
-  m.omega = -s.omega;
+  m.r.x = 0.0 - s.r.x;  // 0 - x keeps a zero +0 (see ensemble.cpp)
+  m.v.x = 0.0 - s.v.x;
+  m.omega = 0.0 - s.omega;
   return m;
 }
 
@@ -78,7 +79,11 @@ class Run {
   Trajectory finish() {
     loop();
     out_.final_state = state_;
-    out_.energy_loss = e0_ - energy(state_, mat_.kappa, mat_.radius);
+    const double e_end = energy(state_, mat_.kappa, mat_.radius);
+    out_.energy_loss = e0_ - e_end;
+    // A loss within rounding of zero below it (an elastic run) is reported as 0, not -2e-16.
+    const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * std::fmax(std::fabs(e0_), std::fabs(e_end));
+    if (out_.energy_loss < 0.0 && out_.energy_loss > -rounding) out_.energy_loss = 0.0;
     return out_;
   }
 

@@ -375,17 +375,16 @@ Trajectory3 simulate_3d(const Params& params, const Cone& cone, const State3& in
   return Run3(params, cone, initial, sink).finish();
 }
 
-State3 release_state_3d(const Params& params, const Cone& cone, double fraction, const Release3& extra) {
+State3 release_state_3d(const Params& params, const Cone& cone, double fraction) {
   State3 s;
   s.r = {fraction * cone.g.half_width, cone.g.y_release, 0.0};
-  s.v = {params.release_u, params.release_v, extra.w};
-  s.omega = {extra.spin_x, extra.spin_y, params.release_spin};
+  s.v = {params.release_u, params.release_v, params.release_w};
+  s.omega = {params.release_spin_x, params.release_spin_y, params.release_spin};
   return s;
 }
 
-Trajectory3 simulate_release_3d(const Params& params, const Cone& cone, double fraction, const Release3& extra,
-                                EventSink3* sink) {
-  return simulate_3d(params, cone, release_state_3d(params, cone, fraction, extra), sink);
+Trajectory3 simulate_release_3d(const Params& params, const Cone& cone, double fraction, EventSink3* sink) {
+  return simulate_3d(params, cone, release_state_3d(params, cone, fraction), sink);
 }
 
 }  // namespace funnel

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "funnel/random.hpp"
 
@@ -15,23 +17,13 @@ constexpr std::int64_t max_chunks = 256;
 constexpr std::int64_t min_chunk = 16;
 
 struct BlockStats3 {
-  Accumulator duration, impulse, normal_impulse, energy_loss, collisions, edge_collisions, contact_time, orbits;
-  Accumulator duration_exited, impulse_exited, energy_loss_exited;
+  std::array<Accumulator, observable_count_3d> acc;
   std::int64_t exited = 0, rest = 0, trapped = 0, periodic = 0, total_collisions = 0, ode_steps = 0;
 
   void add(const Trajectory3& t) {
-    duration.add(t.duration);
-    impulse.add(t.impulse);
-    normal_impulse.add(t.normal_impulse);
-    energy_loss.add(t.energy_loss);
-    collisions.add(static_cast<double>(t.collisions));
-    edge_collisions.add(static_cast<double>(t.edge_collisions));
-    contact_time.add(t.contact_time);
-    orbits.add(std::fabs(t.orbits));
-    if (t.status == Status::Exited) {
-      duration_exited.add(t.duration);
-      impulse_exited.add(t.impulse);
-      energy_loss_exited.add(t.energy_loss);
+    for (const ObservableInfo& o : observables_3d()) {
+      if (o.exited_only && t.status != Status::Exited) continue;
+      acc[static_cast<std::size_t>(o.id)].add(value(t, o.id));
     }
     exited += t.status == Status::Exited;
     rest += t.status == Status::Rest;
@@ -42,17 +34,7 @@ struct BlockStats3 {
   }
 
   void merge(const BlockStats3& o) {
-    duration.merge(o.duration);
-    impulse.merge(o.impulse);
-    normal_impulse.merge(o.normal_impulse);
-    energy_loss.merge(o.energy_loss);
-    collisions.merge(o.collisions);
-    edge_collisions.merge(o.edge_collisions);
-    contact_time.merge(o.contact_time);
-    orbits.merge(o.orbits);
-    duration_exited.merge(o.duration_exited);
-    impulse_exited.merge(o.impulse_exited);
-    energy_loss_exited.merge(o.energy_loss_exited);
+    for (std::size_t i = 0; i < acc.size(); ++i) acc[i].merge(o.acc[i]);
     exited += o.exited;
     rest += o.rest;
     trapped += o.trapped;
@@ -64,17 +46,7 @@ struct BlockStats3 {
   Ensemble3Result result(std::int64_t samples) const {
     Ensemble3Result r;
     r.samples = samples;
-    r.duration = summarize(duration);
-    r.impulse = summarize(impulse);
-    r.normal_impulse = summarize(normal_impulse);
-    r.energy_loss = summarize(energy_loss);
-    r.collisions = summarize(collisions);
-    r.edge_collisions = summarize(edge_collisions);
-    r.contact_time = summarize(contact_time);
-    r.orbits = summarize(orbits);
-    r.duration_exited = summarize(duration_exited);
-    r.impulse_exited = summarize(impulse_exited);
-    r.energy_loss_exited = summarize(energy_loss_exited);
+    for (std::size_t i = 0; i < acc.size(); ++i) r.stats[i] = summarize(acc[i]);
     r.exited = exited;
     r.rest = rest;
     r.trapped = trapped;
@@ -87,18 +59,49 @@ struct BlockStats3 {
 
 }  // namespace
 
+double value(const Trajectory3& t, Observable o) {
+  const bool exited = t.status == Status::Exited;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const State3& x = t.exit_state;
+  switch (o) {
+    case Observable::Duration: return t.duration;
+    case Observable::Impulse: return t.impulse;
+    case Observable::NormalImpulse: return t.normal_impulse;
+    case Observable::EnergyLoss: return t.energy_loss;
+    case Observable::Collisions: return static_cast<double>(t.collisions);
+    case Observable::EdgeCollisions: return static_cast<double>(t.edge_collisions);
+    case Observable::FaceCollisions: return static_cast<double>(t.collisions - t.edge_collisions);
+    case Observable::Contacts: return static_cast<double>(t.contacts);
+    case Observable::EdgeContacts: return static_cast<double>(t.edge_contacts);
+    case Observable::ContactTime: return t.contact_time;
+    case Observable::ExitX: return exited ? x.r.x : nan;
+    case Observable::ExitU: return exited ? x.v.x : nan;
+    case Observable::ExitV: return exited ? x.v.y : nan;
+    case Observable::ExitSpeed: return exited ? std::sqrt(dot(x.v, x.v)) : nan;
+    case Observable::ExitAngle:
+      return exited ? std::atan2(std::sqrt(x.v.x * x.v.x + x.v.z * x.v.z), -x.v.y) * (180.0 / std::numbers::pi) : nan;
+    case Observable::ExitSpin: return exited ? x.omega.z : nan;
+    case Observable::ExitZ: return exited ? x.r.z : nan;
+    case Observable::ExitW: return exited ? x.v.z : nan;
+    case Observable::ExitSpinX: return exited ? x.omega.x : nan;
+    case Observable::ExitSpinY: return exited ? x.omega.y : nan;
+    case Observable::Orbits: return std::fabs(t.orbits);
+  }
+  return nan;
+}
+
 State3 ensemble_release_3d(const Params& params, const Cone& cone, const Ensemble3Options& options, std::int64_t k) {
-  State3 s = release_state_3d(params, cone, release_fraction(options.dist, k, options.samples), options.release);
+  State3 s = release_state_3d(params, cone, release_fraction(options.dist, k, options.samples));
   if (options.velocity_sd > 0.0) {
     const auto index = static_cast<std::uint64_t>(k);
-    s.v.x += options.velocity_sd * normal(options.seed, release_velocity_stream, index, 0);
-    s.v.z += options.velocity_sd * normal(options.seed, release_velocity_stream, index, 1);
+    s.v.x += options.velocity_sd * standard_normal(options.seed, release_velocity_u_stream, index);
+    s.v.z += options.velocity_sd * standard_normal(options.seed, release_velocity_w_stream, index);
   }
   return s;
 }
 
 std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const Ensemble3Options& options,
-                                          const Progress& progress) {
+                                          const Progress& progress, const PointDone3& point_done) {
   const std::int64_t n = options.samples;
   const std::int64_t blocks_per_point = std::min(max_chunks, (n + min_chunk - 1) / min_chunk);
   const auto n_points = static_cast<std::int64_t>(points.size());
@@ -144,6 +147,7 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
         std::vector<Sample3> kept = std::move(r.per_sample);
         r = total.result(n);
         r.per_sample = std::move(kept);
+        if (point_done) point_done(static_cast<std::size_t>(point), r);
       }
       ++finished;
       if (progress) progress(finished, n_tasks);

@@ -1,4 +1,4 @@
-// Event detection for a free flight (MODEL.md §3).
+// Event detection for a free flight (docs/model.md §3).
 #include "funnel/flight.hpp"
 
 #include <array>

@@ -1,4 +1,4 @@
-// Funnel geometry derived from the parameters (MODEL.md §2).
+// Funnel geometry derived from the parameters (docs/model.md §2).
 #include "funnel/geometry.hpp"
 
 #include <cmath>

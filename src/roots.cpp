@@ -8,12 +8,12 @@
 namespace funnel {
 
 double line_arrival_time(double delta0, double p, double c) {
-  // On the line: exactly 2p/c (MODEL.md §3). The general form gives the same bits, since
+  // On the line: exactly 2p/c (docs/model.md §3). The general form gives the same bits, since
   // sqrt(fl(p*p)) = |p| in binary floating point, but costs a square root.
   if (delta0 == 0.0) return p >= 0.0 ? 2.0 * p / c : 0.0;
   if (delta0 > 0.0) {
     const double s = std::sqrt(p * p + 2.0 * delta0 * c);
-    // Both forms avoid subtracting nearly equal numbers (MODEL.md §3).
+    // Both forms avoid subtracting nearly equal numbers (docs/model.md §3).
     return p >= 0.0 ? (p + s) / c : 2.0 * delta0 / (s - p);
   }
   // Behind the line (possible only below a wall's end): it is crossed back inward first,

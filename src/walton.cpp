@@ -1,4 +1,4 @@
-// Walton's three-parameter collision law (MODEL.md §4).
+// Walton's three-parameter collision law (docs/model.md §4).
 #include "funnel/walton.hpp"
 
 #include <cmath>

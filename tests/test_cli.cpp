@@ -84,8 +84,8 @@ TEST_F(Cli, SweepWritesOneRowPerGridPointAndConfigAndOptionsCombine) {
   ASSERT_EQ(r.code, 0) << r.output;
   const std::string csv = read("s.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);  // header + 3 x 2 points
-  EXPECT_EQ(csv.rfind("theta,e,mu,beta0,radius,gap,inertia,t_max,max_collisions,release_dist,samples,duration_mean", 0), 0u);
-  EXPECT_NE(csv.find("\n60,0.9,1,0,0.01,0.04,0.4,1e+05,100000000,line,50,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.rfind("theta,e,mu,beta0,radius,gap,inertia,t_max,max_collisions,release_height,release_u,release_v,release_spin,release_dist,samples,duration_mean", 0), 0u);
+  EXPECT_NE(csv.find("\n60,0.9,1,0,0.01,0.04,0.4,1e+05,100000000,1,0,0,0,line,50,"), std::string::npos) << csv;
 }
 
 TEST_F(Cli, EnsembleCsvAndJsonAgree) {
@@ -137,7 +137,7 @@ TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
   const Result r = run("paper --quick --no-plots --out " + path("paper"));
   ASSERT_EQ(r.code, 0) << r.output;
   const std::pair<const char*, const char*> figures[] = {
-      {"fig02", "panel,theta,e,mu,beta0,radius,gap,inertia,t_max,max_collisions,release_dist,samples,duration_mean"},
+      {"fig02", "panel,theta,e,mu,beta0,radius,gap,inertia,t_max,max_collisions,release_height,release_u,release_v,release_spin,release_dist,samples,duration_mean"},
       {"fig03", "panel,theta,e,mu,beta0"},
       {"fig04", "panel,theta,e,mu,beta0"},
       {"fig05", "panel,theta,e,mu,beta0"},

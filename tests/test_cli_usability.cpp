@@ -223,7 +223,7 @@ TEST_F(Cli, SweepConfigReadsGridAndParamsTables) {
   ASSERT_EQ(r.code, 0) << r.output;
   const std::string csv = read("s.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;
-  EXPECT_NE(csv.find("\n50,0.9,1,0,0.01,0.04,0.4,1e+05,100000000,line,20,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n50,0.9,1,0,0.01,0.04,0.4,1e+05,100000000,1,0,0,0,line,20,"), std::string::npos) << csv;
 }
 
 TEST_F(Cli, HugeSweepsNeedYes) {

@@ -47,7 +47,7 @@ TEST(Engine3d, InAMeridianPlaneTheTrajectoryIsTheTwoDimensionalOne) {
             EventLog l2;
             EventLog3 l3;
             const Trajectory t2 = simulate_release(p, make_geometry(p), x0, &l2);
-            const Trajectory3 t3 = simulate_release_3d(p, make_cone(p), x0, {}, &l3);
+            const Trajectory3 t3 = simulate_release_3d(p, make_cone(p), x0, &l3);
             ASSERT_EQ(l2.events.size(), l3.events.size()) << theta << " " << e << " " << mu << " " << x0;
             for (std::size_t i = 0; i < l2.events.size(); ++i) {
               const Event& a = l2.events[i];
@@ -94,10 +94,9 @@ TEST(Engine3d, RotatingTheReleaseAboutTheAxisRotatesTheTrajectory) {
     Params p = params_with(k.theta, k.e, k.mu, 0.2);
     p.t_max = 300.0;
     const Cone c = make_cone(p);
-    Release3 extra;
-    extra.w = k.w;
-    extra.spin_y = 3.0;
-    const State3 s = release_state_3d(p, c, 0.63, extra);
+    p.release_w = k.w;
+    p.release_spin_y = 3.0;
+    const State3 s = release_state_3d(p, c, 0.63);
     EventLog3 a;
     simulate_3d(p, c, s, &a);
     for (const double angle : {1.1, -2.4}) {
@@ -128,10 +127,9 @@ TEST(Engine3d, MirrorReleaseGivesMirrorTrajectory) {
     Params p = params_with(theta, 0.9, 0.5, 0.31);
     p.t_max = 200.0;
     const Cone c = make_cone(p);
-    Release3 extra;
-    extra.w = 0.15;
-    extra.spin_x = 2.0;
-    const State3 s = release_state_3d(p, c, 0.5, extra);
+    p.release_w = 0.15;
+    p.release_spin_x = 2.0;
+    const State3 s = release_state_3d(p, c, 0.5);
     EventLog3 a, b;
     const Trajectory3 ta = simulate_3d(p, c, s, &a);
     const Trajectory3 tb = simulate_3d(p, c, {mirror(s.r), mirror(s.v), mirror_spin(s.omega)}, &b);
@@ -175,10 +173,9 @@ TEST(Engine3d, FrictionlessMotionConservesAngularMomentumAboutTheAxis) {
       Params p = params_with(theta, 0.8, 0.0, 0.0, gap);
       p.t_max = 150.0;
       const Cone c = make_cone(p);
-      Release3 extra;
-      extra.w = 0.12;
-      extra.spin_x = 5.0;
-      const State3 s = release_state_3d(p, c, 0.7, extra);
+      p.release_w = 0.12;
+      p.release_spin_x = 5.0;
+      const State3 s = release_state_3d(p, c, 0.7);
       Invariants inv(s, p);
       const Trajectory3 t = simulate_3d(p, c, s, &inv);
       EXPECT_GT(inv.count, 20);
@@ -200,11 +197,10 @@ TEST(Engine3d, ElasticCollisionsThatDoNotDissipateConserveEnergy) {
     Params p = params_with(50.0, 1.0, beta0 < 0.0 ? 1.0 : 1e6, beta0, 0.0);
     p.max_collisions = 20000;
     const Cone c = make_cone(p);
-    Release3 extra;
-    extra.w = 0.2;
-    extra.spin_x = -4.0;
-    extra.spin_y = 7.0;
-    const State3 s = release_state_3d(p, c, -0.45, extra);
+    p.release_w = 0.2;
+    p.release_spin_x = -4.0;
+    p.release_spin_y = 7.0;
+    const State3 s = release_state_3d(p, c, -0.45);
     Invariants inv(s, p);
     const Trajectory3 t = simulate_3d(p, c, s, &inv);
     EXPECT_EQ(t.collisions, 20000);
@@ -221,9 +217,8 @@ TEST(Engine3d, EnergyLossEqualsSumOfEventLosses) {
       Params p = params_with(theta, e, 0.7, 0.31);
       p.t_max = 300.0;
       const Cone c = make_cone(p);
-      Release3 extra;
-      extra.w = 0.08;
-      const State3 s = release_state_3d(p, c, 0.55, extra);
+      p.release_w = 0.08;
+      const State3 s = release_state_3d(p, c, 0.55);
       EventLog3 log;
       const Trajectory3 t = simulate_3d(p, c, s, &log);
       double sum = 0.0;
@@ -270,10 +265,9 @@ TEST(Engine3d, TimeAdvancesAtEveryEventNoZenoLoops) {
         p.t_max = 100.0;
         const Cone c = make_cone(p);
         for (const double w : {0.0, 0.1}) {
-          Release3 extra;
-          extra.w = w;
+          p.release_w = w;
           EventLog3 log;
-          const Trajectory3 t = simulate_release_3d(p, c, 0.6, extra, &log);
+          const Trajectory3 t = simulate_release_3d(p, c, 0.6, &log);
           EXPECT_FALSE(t.stalled) << theta << " " << e << " " << mu << " " << w;
           int same = 0, worst = 0;
           for (std::size_t i = 1; i < log.events.size(); ++i) {

@@ -34,17 +34,17 @@ TEST(Ensemble3d, ReleasesAtRestGiveTheTwoDimensionalConeStatisticsBitForBit) {
     o3.threads = 2;
     const EnsembleResult a = run_ensemble(p, o2);
     const Ensemble3Result b = run_ensemble_3d(p, o3);
-    expect_same(b.duration, a.duration);
-    expect_same(b.impulse, a.impulse);
-    expect_same(b.normal_impulse, a.normal_impulse);
-    expect_same(b.energy_loss, a.energy_loss);
-    expect_same(b.collisions, a.collisions);
-    expect_same(b.edge_collisions, a.edge_collisions);
-    expect_same(b.contact_time, a.contact_time);
+    expect_same(b[Observable::Duration], a[Observable::Duration]);
+    expect_same(b[Observable::Impulse], a[Observable::Impulse]);
+    expect_same(b[Observable::NormalImpulse], a[Observable::NormalImpulse]);
+    expect_same(b[Observable::EnergyLoss], a[Observable::EnergyLoss]);
+    expect_same(b[Observable::Collisions], a[Observable::Collisions]);
+    expect_same(b[Observable::EdgeCollisions], a[Observable::EdgeCollisions]);
+    expect_same(b[Observable::ContactTime], a[Observable::ContactTime]);
     EXPECT_EQ(b.exited, a.exited);
     EXPECT_EQ(b.trapped, a.trapped);
     EXPECT_EQ(b.total_collisions, a.total_collisions);
-    EXPECT_EQ(b.orbits.max, 0.0);
+    EXPECT_EQ(b[Observable::Orbits].max, 0.0);
     EXPECT_EQ(b.ode_steps, 0);  // every contact in closed form
   }
 }
@@ -61,9 +61,9 @@ TEST(Ensemble3d, LineReleasesGiveTheTwoDimensionalFunnelStatistics) {
   const Ensemble3Result b = run_ensemble_3d(p, o3);
   // The 2D engine simulates half the line and counts each mirror twice: the sums are the same up
   // to their order.
-  EXPECT_TRUE(near(b.duration.mean, a.duration.mean, 1e-12));
-  EXPECT_TRUE(near(b.impulse.mean, a.impulse.mean, 1e-12));
-  EXPECT_TRUE(near(b.energy_loss.mean, a.energy_loss.mean, 1e-12));
+  EXPECT_TRUE(near(b[Observable::Duration].mean, a[Observable::Duration].mean, 1e-12));
+  EXPECT_TRUE(near(b[Observable::Impulse].mean, a[Observable::Impulse].mean, 1e-12));
+  EXPECT_TRUE(near(b[Observable::EnergyLoss].mean, a[Observable::EnergyLoss].mean, 1e-12));
   EXPECT_EQ(b.total_collisions, a.total_collisions);
 }
 
@@ -79,10 +79,10 @@ TEST(Ensemble3d, ResultsAreBitIdenticalForAnyThreadCount) {
   const Ensemble3Result a = run_ensemble_3d(p, o);
   o.threads = 2;
   const Ensemble3Result b = run_ensemble_3d(p, o);
-  expect_same(a.duration, b.duration);
-  expect_same(a.impulse, b.impulse);
-  expect_same(a.energy_loss, b.energy_loss);
-  expect_same(a.orbits, b.orbits);
+  expect_same(a[Observable::Duration], b[Observable::Duration]);
+  expect_same(a[Observable::Impulse], b[Observable::Impulse]);
+  expect_same(a[Observable::EnergyLoss], b[Observable::EnergyLoss]);
+  expect_same(a[Observable::Orbits], b[Observable::Orbits]);
   EXPECT_EQ(a.trapped, b.trapped);
   EXPECT_EQ(a.ode_steps, b.ode_steps);
   EXPECT_GT(a.ode_steps, 0);  // integrated contacts are part of it
@@ -96,13 +96,13 @@ TEST(Ensemble3d, ReleaseVelocitiesAreSeededNormalDraws) {
   o.samples = 4000;
   o.velocity_sd = 0.03;
   o.seed = 99;
-  o.release.w = -0.02;
+  p.release_w = -0.02;
   double su = 0.0, sw = 0.0, su2 = 0.0, sw2 = 0.0;
   for (std::int64_t k = 0; k < o.samples; ++k) {
     const State3 s = ensemble_release_3d(p, c, o, k);
     const auto index = static_cast<std::uint64_t>(k);
-    EXPECT_EQ(s.v.x, 0.01 + 0.03 * normal(99, release_velocity_stream, index, 0));
-    EXPECT_EQ(s.v.z, -0.02 + 0.03 * normal(99, release_velocity_stream, index, 1));
+    EXPECT_EQ(s.v.x, 0.01 + 0.03 * standard_normal(99, release_velocity_u_stream, index));
+    EXPECT_EQ(s.v.z, -0.02 + 0.03 * standard_normal(99, release_velocity_w_stream, index));
     EXPECT_EQ(s.v.y, 0.0);
     EXPECT_EQ(s.r.z, 0.0);
     su += s.v.x - 0.01;
@@ -135,14 +135,14 @@ TEST(Ensemble3d, KeptSamplesAgreeWithTheStatistics) {
   for (const Sample3& s : r.per_sample) {
     sum += s.trajectory.duration;
     if (s.trajectory.status == Status::Exited) {
-      sum_exited += s.trajectory.duration;
+      sum_exited += value(s.trajectory, Observable::ExitSpeed);
       ++exited;
     }
   }
-  EXPECT_TRUE(near(r.duration.mean, sum / 40.0, 1e-12));
+  EXPECT_TRUE(near(r[Observable::Duration].mean, sum / 40.0, 1e-12));
   EXPECT_EQ(r.exited, exited);
   ASSERT_GT(exited, 0);
-  EXPECT_TRUE(near(r.duration_exited.mean, sum_exited / static_cast<double>(exited), 1e-12));
+  EXPECT_TRUE(near(r[Observable::ExitSpeed].mean, sum_exited / static_cast<double>(exited), 1e-12));
 }
 
 }  // namespace

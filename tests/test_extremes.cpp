@@ -1,4 +1,4 @@
-// Numerical robustness across the whole valid parameter box (issue 6): every run ends with a
+// Numerical robustness across the whole valid parameter box: every run ends with a
 // valid status, finite outputs, no energy gain, no Zeno stall, within the caps.
 #include <gtest/gtest.h>
 

@@ -16,7 +16,7 @@ namespace {
 
 using test::near;
 
-double draw(std::uint64_t index, int lane) { return uniform(23, 0, index, lane); }
+double draw(std::uint64_t index, int lane) { return uniform01(23, static_cast<std::uint64_t>(lane), index); }
 
 /// The state a time T before `s` on the same parabola.
 State3 run_back(const State3& s, double T) {

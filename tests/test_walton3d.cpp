@@ -14,7 +14,7 @@ namespace {
 using test::near;
 
 /// A uniform draw in (-1, 1) from a counter.
-double draw(std::uint64_t index, int lane) { return 2.0 * uniform(11, 0, index, lane) - 1.0; }
+double draw(std::uint64_t index, int lane) { return 2.0 * uniform01(11, static_cast<std::uint64_t>(lane), index) - 1.0; }
 
 /// Rotation about the unit axis u by angle a (Rodrigues).
 Vec3 rotate(Vec3 v, Vec3 u, double a) {

@@ -1,4 +1,4 @@
-// Long-time states of a closed funnel (MODEL.md §10, paper Figs. 11 and 12).
+// Long-time states of a closed funnel (docs/theory.md, paper Figs. 11 and 12).
 #pragma once
 
 #include <cstdint>

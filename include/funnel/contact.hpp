@@ -1,4 +1,4 @@
-// Sustained sliding/rolling contact with a wall face, solved in closed form (MODEL.md §5).
+// Sustained sliding/rolling contact with a wall face, solved in closed form (docs/model.md §5).
 #pragma once
 
 #include "funnel/geometry.hpp"

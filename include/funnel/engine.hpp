@@ -1,4 +1,4 @@
-// One trajectory of the particle through the funnel, event by event (MODEL.md §3-7).
+// One trajectory of the particle through the funnel, event by event (docs/model.md §3-7).
 #pragma once
 
 #include <cstdint>
@@ -13,7 +13,7 @@
 
 namespace funnel {
 
-/// How a trajectory ended (MODEL.md §6).
+/// How a trajectory ended (docs/model.md §6).
 enum class Status { Exited, Rest, Trapped };
 
 /// Lower-case names used in every output: "exited", "rest", "trapped".
@@ -25,7 +25,7 @@ std::string_view to_string(Wall wall);
 /// "none", "sliding", "sticking", "rolling".
 std::string_view to_string(Regime regime);
 
-/// One entry of the optional event log (MODEL.md §7).
+/// One entry of the optional event log (docs/model.md §7).
 struct Event {
   double time = 0.0;          ///< time of the event, units sqrt(H/g)
   EventKind kind = EventKind::Face;
@@ -59,7 +59,7 @@ class EventLog final : public EventSink {
   std::vector<Event> events;  ///< the events in time order
 };
 
-/// Observables of one trajectory (MODEL.md §7).
+/// Observables of one trajectory (docs/model.md §7).
 struct Trajectory {
   Status status = Status::Trapped;
   double duration = 0.0;            ///< time of the exit (or of the end of the run)

@@ -72,24 +72,16 @@ struct Trajectory3 {
   State3 exit_state;                ///< state at the exit level (status Exited only)
 };
 
-/// The parts of a 3D release that 2D has no parameter for; the others come from Params
-/// (release_u, release_v, and release_spin as the spin about z).
-struct Release3 {
-  double w = 0.0;       ///< initial velocity along z (out of the release's meridian plane), units sqrt(gH)
-  double spin_x = 0.0;  ///< initial spin about x, units sqrt(g/H)
-  double spin_y = 0.0;  ///< initial spin about the vertical axis, units sqrt(g/H)
-};
-
 /// Runs one 3D trajectory from any admissible initial state (units H = g = m = 1).
 Trajectory3 simulate_3d(const Params& params, const Cone& cone, const State3& initial, EventSink3* sink = nullptr);
 
 /// The release state at x = fraction * L, z = 0 on the release plane (fraction in (-1, 1)), with
-/// velocity (release_u, release_v, extra.w) and spin (extra.spin_x, extra.spin_y, release_spin).
-State3 release_state_3d(const Params& params, const Cone& cone, double fraction, const Release3& extra = {});
+/// velocity (release_u, release_v, release_w) and spin (release_spin_x, release_spin_y,
+/// release_spin): the 2D spin is the spin about z.
+State3 release_state_3d(const Params& params, const Cone& cone, double fraction);
 
-/// Runs one 3D trajectory from release_state_3d(params, cone, fraction, extra).
-Trajectory3 simulate_release_3d(const Params& params, const Cone& cone, double fraction, const Release3& extra = {},
-                                EventSink3* sink = nullptr);
+/// Runs one 3D trajectory from release_state_3d(params, cone, fraction).
+Trajectory3 simulate_release_3d(const Params& params, const Cone& cone, double fraction, EventSink3* sink = nullptr);
 
 /// "face_end", "rim_top", "take_off", "exit", "rest", "time_cap", "periodic".
 std::string_view to_string(Contact3End end);

@@ -1,6 +1,8 @@
-// Ensembles over release positions (MODEL.md §8) and sweeps over parameter grids, in parallel.
+// Ensembles over release states (docs/model.md §8) and sweeps over parameter grids, in parallel.
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -8,55 +10,91 @@
 #include <vector>
 
 #include "funnel/engine.hpp"
+#include "funnel/observables.hpp"
 #include "funnel/params.hpp"
 #include "funnel/stats.hpp"
+#include "funnel/wear.hpp"
 
 namespace funnel {
 
 /// Distribution of the release positions.
 enum class ReleaseDist {
-  Line,  ///< 2D funnel: x0_k = L (-1 + (2k+1)/N)
-  Disk,  ///< axisymmetric cone: r_k = L sqrt((k + 1/2)/N), uniform over the disk
+  Line,      ///< 2D funnel: x0_k / L = (2k + 1 - N)/N, uniformly spaced (the paper's)
+  Disk,      ///< axisymmetric cone: r_k / L = sqrt((k + 1/2)/N), uniform over the disk
+  Uniform,   ///< x0 / L uniform random in (-1, 1)
+  Gaussian,  ///< x0 / L normal (mean, sd), truncated to (-1, 1) by drawing again
 };
 
-/// "line" or "disk".
+/// "line", "disk", "uniform" or "gaussian".
 std::string_view to_string(ReleaseDist dist);
-/// Parses "line" or "disk"; nullopt otherwise.
+/// Parses a distribution's name; nullopt otherwise.
 std::optional<ReleaseDist> parse_release_dist(std::string_view text);
 
-/// Release position x0/L of sample k of N, in (-1, 1).
+/// Release position x0/L of sample k of N for the deterministic distributions (line, disk).
 double release_fraction(ReleaseDist dist, std::int64_t k, std::int64_t n);
 
 /// How to run an ensemble.
 struct EnsembleOptions {
-  std::int64_t samples = default_samples;  ///< N >= 1
+  std::int64_t samples = default_samples;  ///< N, 1 <= N <= 10^9
   ReleaseDist dist = ReleaseDist::Line;
-  int threads = 0;                          ///< 0: all cores
+  int threads = 0;                          ///< 0: all cores; else 1..1024
   bool keep_samples = false;                ///< also return every trajectory (O(N) memory)
+  std::uint64_t seed = 1;                   ///< key of the random numbers (uniform, gaussian, velocity-sd)
+  double release_mean = 0.0;                ///< gaussian: mean of x0/L, -1 < mean < 1
+  double release_sd = 0.1;                  ///< gaussian: standard deviation of x0/L, > 0
+  double velocity_sd = 0.0;                 ///< standard deviation of each initial velocity component, sqrt(gH), >= 0
+  int wear_bins = 0;                        ///< bins per wall of the wear record (0: none), <= 10^6
+  /// When set and it becomes true, the work not yet started is skipped and the results are
+  /// incomplete (e.g. Ctrl-C in Python); the caller checks it after the run.
+  std::atomic<bool>* cancel = nullptr;
 };
+
+/// Checks the options (the same checks for the CLI, Python and `funnel paper`); the first
+/// invalid one, if any, as a ParamError naming the option.
+std::optional<ParamError> validate(const EnsembleOptions& options);
+
+/// Release position x0/L of sample k, in (-1, 1) (random distributions keyed by (seed, k)).
+double sample_fraction(const EnsembleOptions& options, std::int64_t k);
+
+/// The release state of sample k: its position from the distribution, the parameters' release
+/// velocity and spin, plus a random velocity of standard deviation velocity_sd per component.
+/// Random numbers are keyed by (seed, k): the same for any thread count or split of the work.
+State sample_release(const Params& params, const Geometry& g, const EnsembleOptions& options, std::int64_t k);
+
+/// True when the releases draw random numbers (uniform or gaussian positions, random velocities).
+bool is_random(const EnsembleOptions& options);
+
+/// True when the ensemble is its own mirror image (x -> -x): line releases at zero horizontal
+/// velocity and spin without random velocities. Only then is half of it simulated.
+bool mirror_symmetric(const Params& params, const EnsembleOptions& options);
 
 /// Per-sample outputs of an ensemble, kept only on request.
 struct Sample {
   double fraction = 0.0;  ///< x0 / L
+  State release;          ///< the release state
   Trajectory trajectory;  ///< its observables
 };
 
 /// Statistics of an ensemble.
 struct EnsembleResult {
   std::int64_t samples = 0;
-  Summary duration, impulse, normal_impulse, energy_loss, collisions, edge_collisions, contact_time;
+  std::array<Summary, observable_count> stats{};   ///< every observable; exit ones over the exited samples
   std::int64_t exited = 0, rest = 0, trapped = 0;  ///< count of each status
   std::int64_t total_collisions = 0;               ///< summed over the samples
   std::int64_t simulated_collisions = 0;           ///< collisions actually computed (mirror halving)
+  Wear wear;                                       ///< per-sample mean wear (options.wear_bins > 0)
   std::vector<Sample> per_sample;                  ///< filled when keep_samples
+
+  /// The statistics of one observable.
+  const Summary& operator[](Observable o) const { return stats[static_cast<std::size_t>(o)]; }
 };
 
 /// Called with (finished work units, total work units); from one thread at a time.
 using Progress = std::function<void(std::int64_t, std::int64_t)>;
 
-/// Runs the ensemble of one parameter set. Bit-identical for any thread count. For the line
-/// distribution only the releases x0 <= 0 are simulated: the engine is exactly mirror
-/// symmetric, so each result also stands for its mirror image.
+/// Runs the ensemble of one parameter set. Bit-identical for any thread count. When the
+/// ensemble is mirror symmetric only the releases x0 <= 0 are simulated: the engine is exactly
+/// mirror symmetric, so each result also stands for its mirror image.
 EnsembleResult run_ensemble(const Params& params, const EnsembleOptions& options, const Progress& progress = {});
 
 /// Called once per finished point with its index and result; from one thread at a time, in
@@ -70,5 +108,8 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
 
 /// Number of threads used for `threads` = 0 (all cores) or the value itself.
 int resolve_threads(int threads);
+
+/// The trajectory of the mirror-image release: the same observables with x, u and spin negated.
+Trajectory mirrored(Trajectory t);
 
 }  // namespace funnel

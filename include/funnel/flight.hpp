@@ -1,4 +1,4 @@
-// Free flight under gravity and detection of the next event (MODEL.md §3).
+// Free flight under gravity and detection of the next event (docs/model.md §3).
 #pragma once
 
 #include <optional>

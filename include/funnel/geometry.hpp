@@ -1,4 +1,4 @@
-// Funnel geometry (MODEL.md §2): centre lines, finite walls, edges and the release line.
+// Funnel geometry (docs/model.md §2): centre lines, finite walls, edges and the release line.
 #pragma once
 
 #include "funnel/params.hpp"

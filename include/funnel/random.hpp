@@ -1,23 +1,20 @@
-// Counter-based random numbers (Philox4x64-10): every draw is a pure function of
-// (seed, stream, index), so results do not depend on the order or the thread that draws them.
+// Counter-based random numbers: every value is a pure function of (seed, stream, index), so an
+// ensemble's samples are the same whatever the thread count or the split of the work.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 namespace funnel {
 
-/// The Philox4x64-10 block cipher of Salmon et al. (SC'11): 4 x 64 random bits for a 256-bit
-/// counter and a 128-bit key.
-std::array<std::uint64_t, 4> philox4x64(std::array<std::uint64_t, 4> counter, std::array<std::uint64_t, 2> key);
+/// Philox4x32-10 (Salmon et al., SC'11): 128-bit counter, 64-bit key; returns the first two
+/// 32-bit words of the output block as one 64-bit integer.
+std::uint64_t philox(std::uint64_t key, std::uint64_t counter_hi, std::uint64_t counter_lo);
 
-/// A uniform double in the open interval (0, 1), 53 random bits: lane 0..3 of the block of
-/// counter (index, stream, 0, 0) under key (seed, 0). Distinct (seed, stream, index, lane)
-/// give independent draws.
-double uniform(std::uint64_t seed, std::uint64_t stream, std::uint64_t index, int lane = 0);
+/// A uniform double in (0, 1) (53 random bits, never 0 or 1) for (seed, stream, index).
+double uniform01(std::uint64_t seed, std::uint64_t stream, std::uint64_t index);
 
-/// A standard normal deviate (mean 0, variance 1) by the Box-Muller transform of the same block:
-/// lanes 0 and 1 use the block's words 0 and 1 (cosine and sine), lanes 2 and 3 its words 2 and 3.
-double normal(std::uint64_t seed, std::uint64_t stream, std::uint64_t index, int lane = 0);
+/// A standard normal deviate for (seed, stream, index) (Box-Muller from two uniforms of the
+/// sub-streams 2 stream and 2 stream + 1).
+double standard_normal(std::uint64_t seed, std::uint64_t stream, std::uint64_t index);
 
 }  // namespace funnel

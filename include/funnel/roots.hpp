@@ -1,4 +1,4 @@
-// Cancellation-free polynomial root finders used for event times (MODEL.md §3).
+// Cancellation-free polynomial root finders used for event times (docs/model.md §3).
 #pragma once
 
 #include <array>
@@ -10,7 +10,7 @@ namespace funnel {
 inline constexpr double never = std::numeric_limits<double>::infinity();
 
 /// Time at which a signed distance delta(t) = delta0 + p t - c t^2 / 2 (c > 0) next falls to 0
-/// from above: the particle reaching a centre line. delta0 >= 0 uses the roots of MODEL.md §3
+/// from above: the particle reaching a centre line. delta0 >= 0 uses the roots of docs/model.md §3
 /// (exactly 2p/c when delta0 = 0); delta0 < 0 (behind the line) needs p > 0. `never` if none.
 double line_arrival_time(double delta0, double p, double c);
 

@@ -1,4 +1,4 @@
-// Walton's collision law for a sphere hitting a wall or an edge (MODEL.md §4, paper Eqs. 1-11).
+// Walton's collision law for a sphere hitting a wall or an edge (docs/model.md §4, paper Eqs. 1-11).
 #pragma once
 
 #include "funnel/geometry.hpp"

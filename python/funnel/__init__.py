@@ -11,7 +11,8 @@ A Python front end to the C++ library, like the ``funnel`` command line:
 - :func:`retrace` — self-retracing orbits of the elastic frictionless particle (``funnel retrace``).
 
 Model parameters are keyword arguments named like the command-line options with '-' turned
-into '_': theta [deg], e, mu, beta0, radius, gap, inertia, t_max, max_collisions. Units:
+into '_': theta [deg], e, mu, beta0, radius, gap, inertia, t_max, max_collisions,
+release_height, release_u, release_v, release_spin (the table :data:`PARAMETERS`). Units:
 H = g = m = 1 (times in sqrt(H/g), impulses in m sqrt(gH), energies in mgH). Invalid values
 raise ValueError with the library's message. Results are dicts of Python numbers and 1-D
 numpy arrays.
@@ -37,7 +38,11 @@ except ImportError as _error:
 from ._api import (
     DEFAULT_SAMPLES,
     MODEL_PARAMETERS,
+    MODEL_PARAMETERS_3D_ONLY,
+    OBSERVABLE_TABLE,
     OBSERVABLES,
+    OBSERVABLES_3D,
+    PARAMETERS,
     STATISTICS,
     closed,
     default_params,
@@ -57,7 +62,11 @@ __version__ = "0.1.0"
 __all__ = [
     "DEFAULT_SAMPLES",
     "MODEL_PARAMETERS",
+    "MODEL_PARAMETERS_3D_ONLY",
+    "OBSERVABLE_TABLE",
     "OBSERVABLES",
+    "OBSERVABLES_3D",
+    "PARAMETERS",
     "STATISTICS",
     "closed",
     "default_params",

@@ -1,8 +1,9 @@
 """The documented Python API over the compiled module ``funnel._funnel``.
 
 Model parameters are keyword arguments named like the command-line options with '-' turned
-into '_': theta, e, mu, beta0, radius, gap, inertia, t_max, max_collisions. Units: H = g = m = 1
-(lengths in H, times in sqrt(H/g), impulses in m sqrt(gH), energies in mgH).
+into '_': theta, e, mu, beta0, radius, gap, inertia, t_max, max_collisions, release_height,
+release_u, release_v, release_spin (the library's parameter table, :data:`PARAMETERS`). Units:
+H = g = m = 1 (lengths in H, times in sqrt(H/g), impulses in m sqrt(gH), energies in mgH).
 """
 
 from __future__ import annotations
@@ -19,17 +20,38 @@ except ImportError as _error:  # plotting works without the compiled module
 else:
     _import_error = None
 
-#: Model keyword arguments, in the order of the grid's axes and of the CSV columns.
-MODEL_PARAMETERS = ("theta", "e", "mu", "beta0", "radius", "gap", "inertia", "t_max", "max_collisions")
+#: The library's parameter table: one dict per parameter (name, key, meaning, unit, range,
+#: default, integer, option), in the order of the grid's axes and of the CSV columns.
+PARAMETERS = tuple(_funnel.parameters()) if _funnel is not None else ()
 
-#: Observables summarised by ensembles and sweeps, in column order.
-OBSERVABLES = ("duration", "impulse", "normal_impulse", "energy_loss", "collisions",
-               "edge_collisions", "contact_time")
+#: The library's observable table: one dict per observable (name, meaning, unit, count,
+#: exited_only, summarized), in column order.
+OBSERVABLE_TABLE = tuple(_funnel.observables()) if _funnel is not None else ()
+
+#: Model keyword arguments, in the order of the grid's axes and of the CSV columns.
+MODEL_PARAMETERS = tuple(p["key"] for p in PARAMETERS if p["option"]) or (
+    "theta", "e", "mu", "beta0", "radius", "gap", "inertia", "t_max", "max_collisions", "release_height",
+    "release_u", "release_v", "release_spin")
+
+#: The model keyword arguments of the 3D funnel only (space="3d"): release_w (velocity along z),
+#: release_spin_x, release_spin_y (release_spin is the spin about z).
+MODEL_PARAMETERS_3D_ONLY = tuple(_funnel.parameters_3d()) if _funnel is not None else (
+    "release_w", "release_spin_x", "release_spin_y")
+
+#: The observables of a 3D trajectory: those of 2D, then exit_z, exit_w, exit_spin_x,
+#: exit_spin_y and orbits (turns about the axis).
+OBSERVABLES_3D = tuple(_funnel.observables_3d()) if _funnel is not None else ()
+
+#: Observables summarised by ensembles and sweeps, in column order (the exit ones over the
+#: exited samples).
+OBSERVABLES = tuple(o["name"] for o in OBSERVABLE_TABLE if o["summarized"]) or (
+    "duration", "impulse", "normal_impulse", "energy_loss", "collisions", "edge_collisions", "edge_contacts",
+    "contact_time", "exit_x", "exit_u", "exit_v", "exit_speed", "exit_angle", "exit_spin")
 
 #: Statistics of each observable: mean, sample standard deviation, standard error, min, max.
 STATISTICS = ("mean", "std", "sem", "min", "max")
 
-#: Default number of release positions of an ensemble (MODEL.md section 8).
+#: Default number of release positions of an ensemble (docs/model.md §8).
 DEFAULT_SAMPLES = 4000
 
 
@@ -47,11 +69,22 @@ def _core():
     return _funnel
 
 
-def _check_names(function, model):
+def _check_names(function, model, space="2d"):
+    names = MODEL_PARAMETERS + (MODEL_PARAMETERS_3D_ONLY if space == "3d" else ())
     for name in model:
-        if name not in MODEL_PARAMETERS:
+        if name in MODEL_PARAMETERS_3D_ONLY and space != "3d":
+            raise ValueError(f"invalid {name.replace('_', '-')} = {model[name]!r}: {name} is a 3D option; "
+                             "use space=\"3d\"")
+        if name not in names:
             raise TypeError(f"{function}() got an unexpected keyword argument '{name}' "
-                            f"(model parameters: {', '.join(MODEL_PARAMETERS)})")
+                            f"(model parameters: {', '.join(names)})")
+
+
+def _space(value):
+    """The space, "2d" or "3d"."""
+    if value not in ("2d", "3d"):
+        raise ValueError(f"invalid space = {value!r}: valid values are '2d', '3d'")
+    return value
 
 
 def _scalar(name, value):
@@ -61,8 +94,8 @@ def _scalar(name, value):
     return float(value)
 
 
-def _model(function, model):
-    _check_names(function, model)
+def _model(function, model, space="2d"):
+    _check_names(function, model, space)
     return {name: _scalar(name, value) for name, value in model.items()}
 
 
@@ -79,6 +112,23 @@ def _count(name, value):
     raise TypeError(f"{name} must be an integer, not {type(value).__name__}")
 
 
+def _seed(value):
+    """The random seed, an integer 0 <= seed < 2^64."""
+    seed = _count("seed", value)
+    if not 0 <= seed < 2**64:
+        raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64")
+    return seed
+
+
+def _wear_bins(value):
+    """The wear bins, an integer 0 <= wear_bins <= 10^6."""
+    bins = _count("wear_bins", value)
+    if not 0 <= bins <= 10**6:
+        raise ValueError(f"invalid wear-bins = {bins}: valid range is an integer 0 <= wear-bins <= 10^6 "
+                         "(0 = no wear record)")
+    return bins
+
+
 def _text_columns(columns, names):
     for name in names:
         if name in columns:
@@ -86,8 +136,18 @@ def _text_columns(columns, names):
     return columns
 
 
-def simulate(release, events=False, **model):
-    """Simulate one trajectory released at rest at x0 = release * L.
+def simulate(release, events=False, wear_bins=0, space="2d", **model):
+    """Simulate one trajectory released at x0 = release * L.
+
+    With ``space="3d"`` the funnel is revolved about its vertical axis (a cone with a circular
+    outlet of diameter ``gap``; docs/model.md §9): the ball starts at (x0, y0, 0) and may
+    also get ``release_w`` (velocity along z), ``release_spin_x`` and ``release_spin_y``
+    (``release_spin`` is the spin about z). The result has the 2D keys (exit_speed |v|,
+    exit_angle from the downward vertical >= 0, exit_spin about z) plus ``z0``, ``w0``,
+    ``omega0`` (a 3-vector), ``exit_z``, ``exit_w``, ``exit_spin_x``, ``exit_spin_y``,
+    ``orbits`` (turns about the axis, >= 0), ``orbits_signed`` and ``periodic``; its events
+    add z, w_before/after and omega_x/y/z_before/after (slip_before and j_t are magnitudes).
+    ``wear_bins`` is 2D only.
 
     Parameters
     ----------
@@ -95,23 +155,32 @@ def simulate(release, events=False, **model):
         Release position x0/L, -1 < release < 1 (``--release``).
     events : bool
         Also return the event log (``--events``).
+    wear_bins : int
+        Also record where the walls wear in that many equal bins along each wall (``--wear-bins``).
     **model
-        Model parameters (theta, e, mu, beta0, radius, gap, inertia, t_max, max_collisions);
-        the others keep their defaults.
+        Model parameters (theta, e, mu, beta0, radius, gap, inertia, t_max, max_collisions,
+        release_height, release_u, release_v, release_spin); the others keep their defaults.
+        The particle starts at rest unless release_u, release_v (velocity) or release_spin say
+        otherwise.
 
     Returns
     -------
     dict
         As ``funnel trajectory --format json`` without "provenance": ``params`` (dict),
-        ``release``, ``x0``, ``y0``, ``status`` ("exited", "rest" or "trapped"), ``duration``
-        [sqrt(H/g)], ``impulse`` and ``normal_impulse`` [m sqrt(gH)], ``energy_loss`` [mgH],
-        ``collisions``, ``edge_collisions``, ``face_collisions``, ``contacts`` (int),
-        ``contact_time`` [sqrt(H/g)]. With ``events=True`` also ``events``: a dict of 1-D numpy
-        arrays of equal length, one entry per event: time, x, y, u_before, v_before,
-        omega_before, u_after, v_after, omega_after, slip_before, j_n, j_t, energy_lost
-        (float64), and kind ("face", "edge", "contact_start", "contact_end", "exit"),
-        wall ("left", "right", "none") and regime ("none", "sliding", "sticking", "rolling")
-        as arrays of str.
+        ``release``, ``x0``, ``y0``, ``u0``, ``v0``, ``omega0``, ``status`` ("exited", "rest" or
+        "trapped"), ``duration`` [sqrt(H/g)], ``impulse`` and ``normal_impulse`` [m sqrt(gH)],
+        ``energy_loss`` [mgH], ``collisions``, ``edge_collisions``, ``face_collisions``,
+        ``contacts``, ``edge_contacts`` (int), ``contact_time`` [sqrt(H/g)], and the exit state
+        ``exit_x`` [H], ``exit_u``, ``exit_v``, ``exit_speed`` [sqrt(gH)], ``exit_angle``
+        [degrees from the downward vertical, positive towards +x], ``exit_spin`` [sqrt(g/H)]
+        (None unless it exited). With ``wear_bins``: ``wear`` = {"left": {"s", "collisions",
+        "normal_impulse", "impulse" (numpy arrays), "edge": {...}}, "right": ..., "bin_width"}.
+        With ``events=True`` also ``events``: a dict of 1-D numpy arrays of equal length, one
+        entry per event: time, x, y, u_before, v_before, omega_before, u_after, v_after,
+        omega_after, slip_before, j_n, j_t, energy_lost (float64), and kind ("face", "edge",
+        "contact_start", "contact_end", "edge_contact_start", "edge_contact_end", "exit"), wall
+        ("left", "right", "none") and regime ("none", "sliding", "sticking", "rolling") as
+        arrays of str.
 
     Raises
     ------
@@ -122,29 +191,87 @@ def simulate(release, events=False, **model):
     Examples
     --------
     >>> r = funnel.simulate(release=0.3, theta=60)
-    >>> r["status"], r["duration"]
+    >>> r["status"], r["duration"], r["exit_speed"]
     """
     core = _core()
-    result = core.simulate(_model("simulate", model), _scalar("release", release), bool(events))
+    if _space(space) == "3d":
+        if _wear_bins(wear_bins) != 0:
+            raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
+        result = core.simulate_3d(_model("simulate", model, "3d"), _scalar("release", release), bool(events))
+        if events:
+            _text_columns(result["events"], ("kind", "regime"))
+        return result
+    result = core.simulate(_model("simulate", model), _scalar("release", release), bool(events),
+                           _wear_bins(wear_bins))
     if events:
         _text_columns(result["events"], ("kind", "wall", "regime"))
     return result
 
 
-def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample=False, **model):
-    """Statistics of the observables over ``samples`` release positions.
+def _progress_callback(progress, what):
+    """A callable (done, total) from ``progress``: True (tqdm if installed, else a line on
+    stderr), False/None (nothing) or a callable."""
+    if progress is None or progress is False:
+        return None
+    if callable(progress):
+        return progress
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        import sys
+
+        def text(done, total):
+            end = "\n" if done == total else ""
+            print(f"\rfunnel {what}: {done}/{total}", end=end, file=sys.stderr, flush=True)
+        return text
+    bar = None
+
+    def update(done, total):
+        nonlocal bar
+        if bar is None:
+            bar = tqdm(total=total, desc=f"funnel {what}", unit="chunk")
+        bar.update(done - bar.n)
+        if done == total:
+            bar.close()
+    return update
+
+
+def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=False, seed=1, release=0.0,
+             release_sd=0.1, velocity_sd=0.0, wear_bins=0, progress=False, space="2d", **model):
+    """Statistics of the observables over ``samples`` releases, like ``funnel ensemble``.
+
+    With ``space="3d"`` (the funnel revolved about its axis, see :func:`simulate`) the
+    releases are "disk" (the default) or "line" at z = 0, ``velocity_sd`` adds random
+    horizontal velocities (u, w), and the result holds the statistics of
+    :data:`OBSERVABLES_3D` (orbits included) and ``periodic``; uniform, gaussian, wear_bins
+    and progress are 2D only.
 
     Parameters
     ----------
     samples : int
-        Number of release positions N, 1 <= N <= 10^9.
-    release_dist : {"line", "disk"}
-        "line": the 2D funnel, x0_k = L(-1 + (2k+1)/N); "disk": the axisymmetric cone
-        (paper Sec. V), uniform over the disk of radius L.
+        Number of releases N, 1 <= N <= 10^9.
+    release_dist : {"line", "disk", "uniform", "gaussian"} or None
+        None: "line" in 2D, "disk" in 3D. "line": the 2D funnel, x0_k = L(2k + 1 - N)/N (the paper's); "disk": the axisymmetric cone
+        (paper Sec. V), uniform over the disk of radius L; "uniform": x0/L uniform random in
+        (-1, 1); "gaussian": x0/L normal with mean ``release`` and standard deviation
+        ``release_sd``, truncated to (-1, 1).
     threads : int
         Worker threads, 0 = all cores. Results are bit-identical for any count.
     per_sample : bool
         Also return every trajectory's observables.
+    seed : int
+        Key of the counter-based random numbers (uniform, gaussian, velocity_sd): sample k's
+        random numbers depend on (seed, k) only.
+    release, release_sd : float
+        Mean and standard deviation of x0/L for "gaussian".
+    velocity_sd : float
+        Standard deviation [sqrt(gH)] of a random velocity added to each component of the
+        release velocity (release_u, release_v).
+    wear_bins : int
+        Record the per-sample mean wear of the walls in that many bins per wall.
+    progress : bool or callable
+        True shows a progress bar (tqdm, if installed; else a line on stderr); a callable is
+        called with (done, total) work units. Ctrl-C interrupts the run (KeyboardInterrupt).
     **model
         Model parameters, as for :func:`simulate`.
 
@@ -152,22 +279,36 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample
     -------
     dict
         As ``funnel ensemble --format json`` without "provenance": ``params``,
-        ``release_dist``, ``samples``, one dict {"mean", "std", "sem", "min", "max"} per
-        observable (duration, impulse, normal_impulse, energy_loss, collisions,
-        edge_collisions, contact_time), ``status_counts`` {"exited", "rest", "trapped"} and
-        ``total_collisions``. With ``per_sample=True`` also ``per_sample``: a dict of 1-D
-        arrays of length N in sample order: release (x0/L), duration, impulse,
-        normal_impulse, energy_loss, contact_time (float64), collisions, edge_collisions,
-        face_collisions, contacts (int64) and status (str).
+        ``release_dist``, ``seed``, ``velocity_sd``, ``samples``, one dict {"mean", "std",
+        "sem", "min", "max"} per observable of :data:`OBSERVABLES` (the exit ones over the
+        exited samples, None when none exited), ``status_counts`` {"exited", "rest",
+        "trapped"}, ``total_collisions``, ``simulated_collisions`` (those actually computed:
+        mirror-symmetric ensembles simulate half); with ``wear_bins`` the ``wear`` (as in
+        :func:`simulate`, per-sample means). With ``per_sample=True`` also ``per_sample``: a
+        dict of 1-D arrays of length N in sample order: release (x0/L), u0, v0, status (str)
+        and every observable (exit ones NaN where the sample did not exit).
 
     Examples
     --------
     >>> r = funnel.ensemble(theta=46, samples=400)
-    >>> r["duration"]["mean"], r["status_counts"]["exited"]
+    >>> r["duration"]["mean"], r["exit_speed"]["mean"], r["status_counts"]["exited"]
     """
     core = _core()
+    if _space(space) == "3d":
+        if _wear_bins(wear_bins) != 0:
+            raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
+        result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples),
+                                  "disk" if release_dist is None else str(release_dist), _count("threads", threads),
+                                  bool(per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd))
+        if per_sample:
+            _text_columns(result["per_sample"], ("status",))
+        return result
+    release_dist = "line" if release_dist is None else release_dist
     result = core.ensemble(_model("ensemble", model), _count("samples", samples), str(release_dist),
-                           _count("threads", threads), bool(per_sample))
+                           _count("threads", threads), bool(per_sample), _seed(seed),
+                           _scalar("release", release), _scalar("release_sd", release_sd),
+                           _scalar("velocity_sd", velocity_sd), _wear_bins(wear_bins),
+                           _progress_callback(progress, "ensemble"))
     if per_sample:
         _text_columns(result["per_sample"], ("status",))
     return result
@@ -187,23 +328,28 @@ def _axis_values(name, value):
     return [_scalar(name, v) for v in array.tolist()]
 
 
-def sweep(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, **model):
+def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release=0.0, release_sd=0.1,
+          velocity_sd=0.0, progress=False, space="2d", **model):
     """One ensemble per point of a parameter grid, like ``funnel sweep``.
+
+    With ``space="3d"`` every point is a 3D ensemble as in :func:`ensemble` (release_dist
+    "disk" by default); the columns are the 3D parameters and the statistics of
+    :data:`OBSERVABLES_3D`.
 
     Each model keyword takes a number, a sequence or 1-D array of numbers, or a text
     "a,b,c" or "start:stop:step" (inclusive, as on the command line). The grid is the
-    Cartesian product over theta, e, mu, beta0, radius, gap, inertia, t_max,
-    max_collisions in that order (the last varies fastest), whatever the keyword order.
+    Cartesian product over :data:`MODEL_PARAMETERS` in that order (the last varies fastest),
+    whatever the keyword order. The ensemble options are as for :func:`ensemble`.
 
     Returns
     -------
     dict
         One 1-D numpy array per CSV column of ``funnel sweep``, same names and order, one
-        element per grid point: theta ... t_max (float64), max_collisions (int64),
-        release_dist (str), samples (int64), ``<observable>_<stat>`` (float64) for the
-        observables duration, impulse, normal_impulse, energy_loss, collisions,
-        edge_collisions, contact_time and the stats mean, std, sem, min, max, then
-        exited, rest, trapped, total_collisions (int64).
+        element per grid point: the parameters (float64; max_collisions int64),
+        release_dist (str), samples (int64), ``<observable>_<stat>`` (float64; NaN for an exit
+        observable of a point where nothing exited) for the observables of
+        :data:`OBSERVABLES` and the stats mean, std, sem, min, max, then exited, rest,
+        trapped, total_collisions (int64).
 
     Examples
     --------
@@ -211,9 +357,18 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, **model):
     >>> s["theta"], s["duration_mean"]
     """
     core = _core()
+    if _space(space) == "3d":
+        _check_names("sweep", model, "3d")
+        axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
+                if name in model]
+        return core.sweep_3d(axes, _count("samples", samples), "disk" if release_dist is None else str(release_dist),
+                             _count("threads", threads), _seed(seed), _scalar("velocity_sd", velocity_sd))
+    release_dist = "line" if release_dist is None else release_dist
     _check_names("sweep", model)
     axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS if name in model]
-    result = core.sweep(axes, _count("samples", samples), str(release_dist), _count("threads", threads))
+    result = core.sweep(axes, _count("samples", samples), str(release_dist), _count("threads", threads),
+                        _seed(seed), _scalar("release", release), _scalar("release_sd", release_sd),
+                        _scalar("velocity_sd", velocity_sd), _progress_callback(progress, "sweep"))
     return _text_columns(result, ("release_dist",))
 
 
@@ -224,7 +379,7 @@ def geometry(**model):
     -------
     dict
         theta [deg], sin_t, cos_t, tan_t, radius (a), half_gap (d/2), closed (bool), y_bottom
-        (y_b, the edges' height and exit level), y_release (y_0 = y_b + 1), half_width
+        (y_b, the edges' height and exit level), y_release (y_0 = y_b + H0), half_width
         (L = y_0 / tan(theta)), y_face_end and x_face_end (C*, lower end of the face region;
         the left one is at -x_face_end). The lower edge points are (+-half_gap, y_bottom).
     """

@@ -9,7 +9,9 @@ are read with the standard csv module and numpy.
 Figure kinds (the JSON's "kind"): theta_sweep (Figs. 2-6, 13), release_scan (Fig. 7),
 trajectories (Fig. 8), eigenvalues (Fig. 10), closed_final (Fig. 11), periodic_fraction (Fig. 12);
 and, drawn by :mod:`funnel.plot_orbits`, funnel_sketch (Fig. 1), period2_orbits (Fig. 9),
-retrace_orbits (Fig. 14), retrace_windows (Fig. 2 explained, beyond the paper).
+retrace_orbits (Fig. 14), retrace_windows (Fig. 2 explained, beyond the paper); and, drawn by
+:mod:`funnel.plot_designer`, wear_profiles (where the walls wear, beyond the paper) and
+cone_3d_sweep (the cone in 3D with sideways release velocities, beyond the paper).
 
 ``python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png`` draws one simulated
 trajectory instead (:mod:`funnel.trajectory`).
@@ -25,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-#: Axis label and unit of each observable (units of the nondimensionalisation, MODEL.md).
+#: Axis label and unit of each observable (units of the nondimensionalisation, docs/model.md §1).
 OBSERVABLE_LABELS = {
     "duration": ("average duration", r"$\sqrt{H/g}$"),
     "impulse": ("average impulse", r"$m\sqrt{gH}$"),
@@ -38,7 +40,7 @@ OBSERVABLE_LABELS = {
 
 #: Symbols of the parameters that distinguish curves.
 SYMBOLS = {"theta": r"$\theta$", "e": r"$e$", "mu": r"$\mu$", "beta0": r"$\beta_0$", "radius": r"$a$",
-           "gap": r"$d$", "inertia": r"$\kappa$", "t_max": r"$t_\mathrm{max}$"}
+           "gap": r"$d$", "inertia": r"$\kappa$", "t_max": r"$t_\mathrm{max}$", "velocity_sd": r"$\sigma$"}
 
 #: Curve colours (Okabe-Ito, readable in gray and by colour-blind readers); black first.
 COLORS = ("#000000", "#E69F00", "#0072B2", "#009E73", "#D55E00", "#CC79A7", "#56B4E9", "#F0E442")
@@ -82,6 +84,9 @@ TEXT_COLUMNS = frozenset({"panel", "kind", "wall", "regime", "status", "state", 
 
 #: Kinds drawn by funnel.plot_orbits (imported when first needed).
 ORBIT_KINDS = ("funnel_sketch", "period2_orbits", "retrace_orbits", "retrace_windows")
+
+#: Kinds drawn by funnel.plot_designer (imported when first needed).
+DESIGNER_KINDS = ("wear_profiles", "cone_3d_sweep")
 
 KINDS = ("theta_sweep", "release_scan", "trajectories", "eigenvalues", "closed_final", "periodic_fraction")
 
@@ -485,8 +490,12 @@ def plot_figure(meta, columns):
     if kind in ORBIT_KINDS and kind not in PLOTTERS:
         from .plot_orbits import PLOTTERS as orbit_plotters
         PLOTTERS.update(orbit_plotters)
+    if kind in DESIGNER_KINDS and kind not in PLOTTERS:
+        from .plot_designer import PLOTTERS as designer_plotters
+        PLOTTERS.update(designer_plotters)
     if kind not in PLOTTERS:
-        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are {', '.join(KINDS + ORBIT_KINDS)}")
+        raise ValueError(f"unknown figure kind {kind!r}: valid kinds are "
+                         f"{', '.join(KINDS + ORBIT_KINDS + DESIGNER_KINDS)}")
     with matplotlib.rc_context(STYLE):
         return PLOTTERS[kind](meta, columns)
 

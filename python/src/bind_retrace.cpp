@@ -8,26 +8,15 @@
 
 #include "funnel/params.hpp"
 #include "funnel/retrace.hpp"
+#include "convert.hpp"
 
 namespace py = pybind11;
 
 namespace {
 
 
-template <typename T, typename Get>
-py::array_t<T> column(std::size_t n, Get get) {
-  py::array_t<T> a(static_cast<py::ssize_t>(n));
-  auto w = a.template mutable_unchecked<1>();
-  for (std::size_t i = 0; i < n; ++i) w(static_cast<py::ssize_t>(i)) = get(i);
-  return a;
-}
-
-template <typename Get>
-py::list text_column(std::size_t n, Get get) {
-  py::list l;
-  for (std::size_t i = 0; i < n; ++i) l.append(std::string(get(i)));
-  return l;
-}
+using funnel::py_convert::column;
+using funnel::py_convert::text_column;
 
 void check_int(const char* name, int value, int lo, int hi) {
   if (value < lo || value > hi) {

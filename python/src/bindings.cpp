@@ -5,10 +5,13 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <charconv>
+#include <cmath>
 #include <complex>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,6 +21,9 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/grid.hpp"
+#include "funnel/observables.hpp"
+#include "funnel/wear.hpp"
+#include "convert.hpp"
 #include "funnel/orbit.hpp"
 #include "funnel/params.hpp"
 #include "funnel/version.hpp"
@@ -27,6 +33,8 @@ namespace py = pybind11;
 namespace {
 
 using funnel::Params;
+using funnel::py_convert::column;
+using funnel::py_convert::text_column;
 
 /// Python keyword (t_max) to the library's parameter name (t-max).
 std::string library_name(std::string name) {
@@ -36,77 +44,68 @@ std::string library_name(std::string name) {
   return name;
 }
 
-/// Shortest text that reads back as the same double, as in the library's messages.
-std::string number_text(double x) {
-  char buf[32];
-  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, x);
-  return ec == std::errc() ? std::string(buf, ptr) : "?";
-}
-
 /// The parameters' defaults overridden by `model` ({python name: float}), validated.
 /// Throws ValueError with funnel::ParamError::message() for an invalid set.
 Params make_params(const std::map<std::string, double>& model) {
   Params p = funnel::default_params();
   for (const auto& [key, value] : model) {
-    const std::string name = library_name(key);
-    if (!funnel::set_parameter(p, name, value)) {
-      if (name == "max-collisions") {  // not an integer: the library's message form, its range
-        throw py::value_error(funnel::ParamError{name, number_text(value),
-                                                 std::string(funnel::valid_range(name))}.message());
-      }
-      throw py::type_error("unknown model parameter '" + key + "'");
-    }
+    const funnel::ParameterInfo* info = funnel::find_parameter(key);
+    if (info == nullptr || !info->option) throw py::type_error("unknown model parameter '" + key + "'");
+    if (const auto err = funnel::set_parameter_checked(p, info->name, value)) throw py::value_error(err->message());
   }
-  if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
+  if (const auto err = funnel::validate(p, funnel::Space::TwoD)) throw py::value_error(err->message());
   return p;
 }
 
-/// {"theta": ..., ..., "eps_rest": ...}: the same keys and order as the CLI's "params".
+/// Every parameter by its output key, as the CLI's "params".
 py::dict params_dict(const Params& p) {
   py::dict d;
-  d["theta"] = p.theta;
-  d["e"] = p.e;
-  d["mu"] = p.mu;
-  d["beta0"] = p.beta0;
-  d["radius"] = p.radius;
-  d["gap"] = p.gap;
-  d["inertia"] = p.inertia;
-  d["t_max"] = p.t_max;
-  d["max_collisions"] = p.max_collisions;
-  d["p_c"] = p.p_c;
-  d["eps_rest"] = p.eps_rest;
+  for (const funnel::ParameterInfo& info : funnel::parameters()) {
+    if (info.integer) {
+      d[py::str(info.key())] = static_cast<std::int64_t>(info.get(p));
+    } else {
+      d[py::str(info.key())] = info.get(p);
+    }
+  }
   return d;
 }
 
-/// Observables of one trajectory: the CLI's keys from "status" to "contact_time".
+/// A Python number for an observable's value: int for counts, None where undefined (NaN).
+py::object observable_value(const funnel::ObservableInfo& o, double v) {
+  if (std::isnan(v)) return py::none();
+  if (o.count) return py::int_(static_cast<std::int64_t>(v));
+  return py::float_(v);
+}
+
+/// Observables of one trajectory: the CLI's keys from "status" on.
 void put_trajectory(py::dict& d, const funnel::Trajectory& t) {
   d["status"] = std::string(funnel::to_string(t.status));
-  d["duration"] = t.duration;
-  d["impulse"] = t.impulse;
-  d["normal_impulse"] = t.normal_impulse;
-  d["energy_loss"] = t.energy_loss;
-  d["collisions"] = t.collisions;
-  d["edge_collisions"] = t.edge_collisions;
-  d["face_collisions"] = t.collisions - t.edge_collisions;
-  d["contacts"] = t.contacts;
-  d["contact_time"] = t.contact_time;
+  for (const funnel::ObservableInfo& o : funnel::observables()) {
+    d[py::str(std::string(o.name))] = observable_value(o, funnel::value(t, o.id));
+  }
 }
 
-/// A 1-D numpy array filled from `n` values of `get(i)`.
-template <typename T, typename Get>
-py::array_t<T> column(std::size_t n, Get get) {
-  py::array_t<T> a(static_cast<py::ssize_t>(n));
-  auto w = a.template mutable_unchecked<1>();
-  for (std::size_t i = 0; i < n; ++i) w(static_cast<py::ssize_t>(i)) = get(i);
-  return a;
-}
-
-/// A list of str from `n` values of `get(i)` (the Python layer makes it a numpy str array).
-template <typename Get>
-py::list text_column(std::size_t n, Get get) {
-  py::list l;
-  for (std::size_t i = 0; i < n; ++i) l.append(std::string(get(i)));
-  return l;
+/// The wear record: per wall numpy arrays s, collisions, normal_impulse, impulse and the edge's
+/// totals, as the CLI's "wear".
+py::dict wear_dict(const funnel::Wear& w) {
+  py::dict d;
+  for (const funnel::Wall wall : {funnel::Wall::Left, funnel::Wall::Right}) {
+    const funnel::WallWear& ww = w[wall];
+    const auto n = static_cast<std::size_t>(w.bins);
+    py::dict side;
+    side["s"] = column<double>(n, [&](std::size_t k) { return (static_cast<double>(k) + 0.5) * w.bin_width; });
+    side["collisions"] = column<double>(n, [&](std::size_t k) { return ww.collisions[k]; });
+    side["normal_impulse"] = column<double>(n, [&](std::size_t k) { return ww.normal_impulse[k]; });
+    side["impulse"] = column<double>(n, [&](std::size_t k) { return ww.impulse[k]; });
+    py::dict edge;
+    edge["collisions"] = ww.edge_collisions;
+    edge["normal_impulse"] = ww.edge_normal_impulse;
+    edge["impulse"] = ww.edge_impulse;
+    side["edge"] = edge;
+    d[py::str(std::string(funnel::to_string(wall)))] = side;
+  }
+  d["bin_width"] = w.bin_width;
+  return d;
 }
 
 /// The event log as columns, named as in `funnel trajectory --events --format csv`.
@@ -134,87 +133,122 @@ py::dict events_dict(const std::vector<funnel::Event>& ev) {
   return d;
 }
 
-/// Ensemble statistics, in the CLI's order: name and member of each summary.
-struct NamedSummary {
-  const char* name;
-  funnel::Summary funnel::EnsembleResult::*member;
-};
-constexpr NamedSummary summaries[] = {
-    {"duration", &funnel::EnsembleResult::duration},
-    {"impulse", &funnel::EnsembleResult::impulse},
-    {"normal_impulse", &funnel::EnsembleResult::normal_impulse},
-    {"energy_loss", &funnel::EnsembleResult::energy_loss},
-    {"collisions", &funnel::EnsembleResult::collisions},
-    {"edge_collisions", &funnel::EnsembleResult::edge_collisions},
-    {"contact_time", &funnel::EnsembleResult::contact_time},
-};
+/// The statistics of an observable as the CLI reports them (None throughout where no sample
+/// defines it, e.g. exit observables when nothing exited).
+py::dict summary_dict(const funnel::EnsembleResult& r, const funnel::ObservableInfo& o) {
+  const funnel::Summary& v = r[o.id];
+  const bool undefined = o.exited_only && r.exited == 0;
+  py::dict sd;
+  for (const auto& [name, x] : {std::pair<const char*, double>{"mean", v.mean}, {"std", v.std}, {"sem", v.sem},
+                                {"min", v.min}, {"max", v.max}}) {
+    sd[name] = undefined ? py::object(py::none()) : py::object(py::float_(x));
+  }
+  return sd;
+}
 
-funnel::EnsembleOptions ensemble_options(std::int64_t samples, const std::string& dist, int threads) {
+/// Ensemble options from the Python arguments, validated by the library.
+funnel::EnsembleOptions ensemble_options(std::int64_t samples, const std::string& dist, int threads,
+                                         std::uint64_t seed, double release, double release_sd, double velocity_sd,
+                                         int wear_bins) {
   funnel::EnsembleOptions o;
-  if (samples < 1 || samples > 1'000'000'000) {
-    throw py::value_error("invalid samples = " + std::to_string(samples) +
-                          ": valid range is an integer 1 <= samples <= 10^9");
-  }
   const auto d = funnel::parse_release_dist(dist);
-  if (!d) throw py::value_error("invalid release_dist = '" + dist + "': valid values are line, disk");
-  if (threads < 0 || threads > 1024) {
-    throw py::value_error("invalid threads = " + std::to_string(threads) +
-                          ": valid range is an integer 0 <= threads <= 1024 (0 = all cores)");
-  }
+  if (!d) throw py::value_error("invalid release_dist = '" + dist + "': valid values are line, disk, uniform, gaussian");
   o.samples = samples;
   o.dist = *d;
   o.threads = threads;
+  o.seed = seed;
+  o.release_mean = release;
+  o.release_sd = release_sd;
+  o.velocity_sd = velocity_sd;
+  o.wear_bins = wear_bins;
+  if (const auto err = funnel::validate(o)) throw py::value_error(err->message());
   return o;
+}
+
+/// Runs `work` without the GIL; every finished work unit reports to `progress` (a Python
+/// callable (done, total), or None) and checks for Ctrl-C, which cancels the rest of the run
+/// and raises KeyboardInterrupt.
+template <class Work>
+void run_interruptible(funnel::EnsembleOptions& options, const py::object& progress, Work work) {
+  std::atomic<bool> cancel{false};
+  options.cancel = &cancel;
+  std::optional<py::error_already_set> error;  // Ctrl-C, or what the callback raised
+  const funnel::Progress report = [&](std::int64_t done, std::int64_t total) {
+    if (cancel.load()) return;
+    py::gil_scoped_acquire gil;
+    try {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!progress.is_none()) progress(done, total);
+    } catch (py::error_already_set& e) {
+      error.emplace(std::move(e));
+      cancel = true;
+    }
+  };
+  {
+    py::gil_scoped_release nogil;
+    work(report);
+  }
+  options.cancel = nullptr;
+  if (error) throw *error;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Module functions
 
-py::dict simulate(const std::map<std::string, double>& model, double release, bool events) {
+py::dict simulate(const std::map<std::string, double>& model, double release, bool events, int wear_bins) {
   const Params params = make_params(model);
   if (!(release > -1.0 && release < 1.0)) {
-    throw py::value_error("invalid release = " + number_text(release) + ": valid range is -1 < release < 1 (x0/L)");
+    throw py::value_error("invalid release = " + funnel::format_number(release) +
+                          ": valid range is -1 < release < 1 (x0/L)");
   }
+  funnel::EnsembleOptions check;
+  check.wear_bins = wear_bins;
+  if (const auto err = funnel::validate(check)) throw py::value_error(err->message());
   const funnel::Geometry g = funnel::make_geometry(params);
   funnel::EventLog log;
+  funnel::Wear wear = funnel::Wear::make(g, wear_bins);
   funnel::Trajectory t;
   {
     py::gil_scoped_release nogil;
-    t = funnel::simulate_release(params, g, release, events ? &log : nullptr);
+    t = funnel::simulate_release(params, g, release, events ? &log : nullptr, wear_bins > 0 ? &wear : nullptr);
   }
   py::dict d;
   d["params"] = params_dict(params);
   d["release"] = release;
   d["x0"] = release * g.half_width;
   d["y0"] = g.y_release;
+  d["u0"] = params.release_u;
+  d["v0"] = params.release_v;
+  d["omega0"] = params.release_spin;
   put_trajectory(d, t);
+  if (wear_bins > 0) d["wear"] = wear_dict(wear);
   if (events) d["events"] = events_dict(log.events);
   return d;
 }
 
 py::dict ensemble(const std::map<std::string, double>& model, std::int64_t samples, const std::string& dist,
-                  int threads, bool per_sample) {
+                  int threads, bool per_sample, std::uint64_t seed, double release, double release_sd,
+                  double velocity_sd, int wear_bins, const py::object& progress) {
   const Params params = make_params(model);
-  funnel::EnsembleOptions options = ensemble_options(samples, dist, threads);
+  funnel::EnsembleOptions options =
+      ensemble_options(samples, dist, threads, seed, release, release_sd, velocity_sd, wear_bins);
   options.keep_samples = per_sample;
   funnel::EnsembleResult r;
-  {
-    py::gil_scoped_release nogil;
-    r = funnel::run_ensemble(params, options);
-  }
+  run_interruptible(options, progress, [&](const funnel::Progress& report) {
+    r = funnel::run_ensemble(params, options, report);
+  });
   py::dict d;
   d["params"] = params_dict(params);
   d["release_dist"] = std::string(funnel::to_string(options.dist));
+  if (funnel::is_random(options)) d["seed"] = options.seed;
+  if (options.dist == funnel::ReleaseDist::Gaussian) {
+    d["release"] = options.release_mean;
+    d["release_sd"] = options.release_sd;
+  }
+  d["velocity_sd"] = options.velocity_sd;
   d["samples"] = r.samples;
-  for (const auto& s : summaries) {
-    const funnel::Summary& v = r.*(s.member);
-    py::dict sd;
-    sd["mean"] = v.mean;
-    sd["std"] = v.std;
-    sd["sem"] = v.sem;
-    sd["min"] = v.min;
-    sd["max"] = v.max;
-    d[s.name] = sd;
+  for (const funnel::ObservableInfo& o : funnel::observables()) {
+    if (o.summarized) d[py::str(std::string(o.name))] = summary_dict(r, o);
   }
   py::dict counts;
   counts["exited"] = r.exited;
@@ -222,22 +256,25 @@ py::dict ensemble(const std::map<std::string, double>& model, std::int64_t sampl
   counts["trapped"] = r.trapped;
   d["status_counts"] = counts;
   d["total_collisions"] = r.total_collisions;
+  d["simulated_collisions"] = r.simulated_collisions;
+  if (wear_bins > 0) d["wear"] = wear_dict(r.wear);
   if (per_sample) {
     const auto& ps = r.per_sample;
     const std::size_t n = ps.size();
     py::dict s;
     s["release"] = column<double>(n, [&](std::size_t i) { return ps[i].fraction; });
+    s["u0"] = column<double>(n, [&](std::size_t i) { return ps[i].release.v.x; });
+    s["v0"] = column<double>(n, [&](std::size_t i) { return ps[i].release.v.y; });
     s["status"] = text_column(n, [&](std::size_t i) { return funnel::to_string(ps[i].trajectory.status); });
-    s["duration"] = column<double>(n, [&](std::size_t i) { return ps[i].trajectory.duration; });
-    s["impulse"] = column<double>(n, [&](std::size_t i) { return ps[i].trajectory.impulse; });
-    s["normal_impulse"] = column<double>(n, [&](std::size_t i) { return ps[i].trajectory.normal_impulse; });
-    s["energy_loss"] = column<double>(n, [&](std::size_t i) { return ps[i].trajectory.energy_loss; });
-    s["collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return ps[i].trajectory.collisions; });
-    s["edge_collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return ps[i].trajectory.edge_collisions; });
-    s["face_collisions"] = column<std::int64_t>(
-        n, [&](std::size_t i) { return ps[i].trajectory.collisions - ps[i].trajectory.edge_collisions; });
-    s["contacts"] = column<std::int64_t>(n, [&](std::size_t i) { return ps[i].trajectory.contacts; });
-    s["contact_time"] = column<double>(n, [&](std::size_t i) { return ps[i].trajectory.contact_time; });
+    for (const funnel::ObservableInfo& o : funnel::observables()) {
+      if (o.count) {
+        s[py::str(std::string(o.name))] = column<std::int64_t>(
+            n, [&](std::size_t i) { return static_cast<std::int64_t>(funnel::value(ps[i].trajectory, o.id)); });
+      } else {
+        s[py::str(std::string(o.name))] =
+            column<double>(n, [&](std::size_t i) { return funnel::value(ps[i].trajectory, o.id); });
+      }
+    }
     d["per_sample"] = s;
   }
   return d;
@@ -246,7 +283,8 @@ py::dict ensemble(const std::map<std::string, double>& model, std::int64_t sampl
 /// One ensemble per grid point. `axes` holds (python name, values) in any order; the grid uses
 /// the library's axis order (funnel::sweep_parameter_names()), as `funnel sweep` does.
 py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& axes_in, std::int64_t samples,
-               const std::string& dist, int threads) {
+               const std::string& dist, int threads, std::uint64_t seed, double release, double release_sd,
+               double velocity_sd, const py::object& progress) {
   std::vector<funnel::Axis> axes;
   for (const std::string& name : funnel::sweep_parameter_names()) {
     for (const auto& [key, values] : axes_in) {
@@ -267,49 +305,83 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
   for (const auto& a : axes) {
     for (const double v : a.values) {
       Params probe = funnel::default_params();
-      if (!funnel::set_parameter(probe, a.name, v)) {
-        throw py::value_error(funnel::ParamError{a.name, number_text(v),
-                                                 std::string(funnel::valid_range(a.name))}.message());
-      }
+      if (const auto err = funnel::set_parameter_checked(probe, a.name, v)) throw py::value_error(err->message());
     }
   }
   const std::vector<Params> points = funnel::expand_grid(funnel::default_params(), axes);
   for (const Params& p : points) {
     if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
   }
-  const funnel::EnsembleOptions options = ensemble_options(samples, dist, threads);
+  funnel::EnsembleOptions options = ensemble_options(samples, dist, threads, seed, release, release_sd, velocity_sd, 0);
   std::vector<funnel::EnsembleResult> results;
-  {
-    py::gil_scoped_release nogil;
-    results = funnel::run_sweep(points, options);
-  }
+  run_interruptible(options, progress, [&](const funnel::Progress& report) {
+    results = funnel::run_sweep(points, options, report);
+  });
 
   const std::size_t n = points.size();
   py::dict d;  // the CSV columns of `funnel sweep`, in order
-  d["theta"] = column<double>(n, [&](std::size_t i) { return points[i].theta; });
-  d["e"] = column<double>(n, [&](std::size_t i) { return points[i].e; });
-  d["mu"] = column<double>(n, [&](std::size_t i) { return points[i].mu; });
-  d["beta0"] = column<double>(n, [&](std::size_t i) { return points[i].beta0; });
-  d["radius"] = column<double>(n, [&](std::size_t i) { return points[i].radius; });
-  d["gap"] = column<double>(n, [&](std::size_t i) { return points[i].gap; });
-  d["inertia"] = column<double>(n, [&](std::size_t i) { return points[i].inertia; });
-  d["t_max"] = column<double>(n, [&](std::size_t i) { return points[i].t_max; });
-  d["max_collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return points[i].max_collisions; });
+  for (const funnel::ParameterInfo& info : funnel::parameters()) {
+    if (!info.option) continue;
+    if (info.integer) {
+      d[py::str(info.key())] =
+          column<std::int64_t>(n, [&](std::size_t i) { return static_cast<std::int64_t>(info.get(points[i])); });
+    } else {
+      d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return info.get(points[i]); });
+    }
+  }
   d["release_dist"] = text_column(n, [&](std::size_t) { return funnel::to_string(options.dist); });
   d["samples"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].samples; });
-  for (const auto& s : summaries) {
-    const std::string base = s.name;
-    d[py::str(base + "_mean")] = column<double>(n, [&](std::size_t i) { return (results[i].*(s.member)).mean; });
-    d[py::str(base + "_std")] = column<double>(n, [&](std::size_t i) { return (results[i].*(s.member)).std; });
-    d[py::str(base + "_sem")] = column<double>(n, [&](std::size_t i) { return (results[i].*(s.member)).sem; });
-    d[py::str(base + "_min")] = column<double>(n, [&](std::size_t i) { return (results[i].*(s.member)).min; });
-    d[py::str(base + "_max")] = column<double>(n, [&](std::size_t i) { return (results[i].*(s.member)).max; });
+  for (const funnel::ObservableInfo& o : funnel::observables()) {
+    if (!o.summarized) continue;
+    const std::string base(o.name);
+    const auto stat = [&](std::size_t i, double funnel::Summary::*member) {
+      return o.exited_only && results[i].exited == 0 ? std::nan("") : results[i][o.id].*member;
+    };
+    d[py::str(base + "_mean")] = column<double>(n, [&](std::size_t i) { return stat(i, &funnel::Summary::mean); });
+    d[py::str(base + "_std")] = column<double>(n, [&](std::size_t i) { return stat(i, &funnel::Summary::std); });
+    d[py::str(base + "_sem")] = column<double>(n, [&](std::size_t i) { return stat(i, &funnel::Summary::sem); });
+    d[py::str(base + "_min")] = column<double>(n, [&](std::size_t i) { return stat(i, &funnel::Summary::min); });
+    d[py::str(base + "_max")] = column<double>(n, [&](std::size_t i) { return stat(i, &funnel::Summary::max); });
   }
   d["exited"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].exited; });
   d["rest"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].rest; });
   d["trapped"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].trapped; });
   d["total_collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].total_collisions; });
   return d;
+}
+
+/// The parameter table: one dict per parameter (name, key, meaning, unit, range, default, integer, option).
+py::list parameter_table() {
+  py::list l;
+  for (const funnel::ParameterInfo& p : funnel::parameters()) {
+    py::dict d;
+    d["name"] = std::string(p.name);
+    d["key"] = p.key();
+    d["meaning"] = std::string(p.meaning);
+    d["unit"] = std::string(p.unit);
+    d["range"] = std::string(p.range);
+    d["default"] = p.get(funnel::default_params());
+    d["integer"] = p.integer;
+    d["option"] = p.option;
+    l.append(d);
+  }
+  return l;
+}
+
+/// The observable table: one dict per observable (name, meaning, unit, count, exited_only, summarized).
+py::list observable_table() {
+  py::list l;
+  for (const funnel::ObservableInfo& o : funnel::observables()) {
+    py::dict d;
+    d["name"] = std::string(o.name);
+    d["meaning"] = std::string(o.meaning);
+    d["unit"] = std::string(o.unit);
+    d["count"] = o.count;
+    d["exited_only"] = o.exited_only;
+    d["summarized"] = o.summarized;
+    l.append(d);
+  }
+  return l;
 }
 
 py::dict geometry(const std::map<std::string, double>& model) {
@@ -348,7 +420,7 @@ py::dict default_params() { return params_dict(funnel::default_params()); }
 
 /// Eigenvalues and stability of the period-2 orbit for each theta (paper Sec. IV, Fig. 10).
 py::dict orbit(const std::vector<double>& thetas, double beta0, double inertia, double radius, double y_star) {
-  if (!(y_star > 0.0)) throw py::value_error("invalid y-star = " + number_text(y_star) + ": valid range is y-star > 0");
+  if (!(y_star > 0.0)) throw py::value_error("invalid y-star = " + funnel::format_number(y_star) + ": valid range is y-star > 0");
   std::vector<funnel::orbit::OrbitAnalysis> out;
   for (const double theta : thetas) {
     make_params({{"theta", theta}, {"beta0", beta0}, {"inertia", inertia}, {"radius", radius}});  // validates
@@ -379,12 +451,14 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
                 int threads, double max_time, std::int64_t max_coll, int window, double slip_tol, double height_tol) {
   std::map<std::string, double> m = model;
   if (const auto it = m.find("gap"); it != m.end() && it->second != 0.0) {
-    throw py::value_error("invalid gap = " + number_text(it->second) + ": closed() needs gap = 0 (the default here)");
+    throw py::value_error("invalid gap = " + funnel::format_number(it->second) + ": closed() needs gap = 0 (the default here)");
   }
   m["gap"] = 0.0;
   const Params params = make_params(m);
   const auto dist = funnel::parse_release_dist(release_dist);
-  if (!dist) throw py::value_error("invalid release-dist = '" + release_dist + "': valid values are line, disk");
+  if (!dist) {
+    throw py::value_error("invalid release_dist = '" + release_dist + "': valid values are line, disk, uniform, gaussian");
+  }
   if (samples < 1) throw py::value_error("invalid samples = " + std::to_string(samples) + ": valid range is samples >= 1");
   if (!(max_time > 0.0) || max_coll < 1 || window < 1 || !(slip_tol > 0.0) || !(height_tol > 0.0)) {
     throw py::value_error("invalid closed() options: need max_time > 0, max_coll >= 1, window >= 1, slip_tol > 0, height_tol > 0");
@@ -422,13 +496,18 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
 }  // namespace
 
 void bind_retrace(py::module_& m);  // bind_retrace.cpp
+void bind_3d(py::module_& m);       // bind_3d.cpp
 
 PYBIND11_MODULE(_funnel, m) {
   m.doc() = "Compiled core of funnel (pybind11). Use the documented wrappers in the `funnel` package.";
-  m.def("simulate", &simulate, py::arg("model"), py::arg("release"), py::arg("events"));
+  m.def("simulate", &simulate, py::arg("model"), py::arg("release"), py::arg("events"), py::arg("wear_bins"));
   m.def("ensemble", &ensemble, py::arg("model"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
-        py::arg("per_sample"));
-  m.def("sweep", &sweep, py::arg("axes"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"));
+        py::arg("per_sample"), py::arg("seed"), py::arg("release"), py::arg("release_sd"), py::arg("velocity_sd"),
+        py::arg("wear_bins"), py::arg("progress"));
+  m.def("sweep", &sweep, py::arg("axes"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
+        py::arg("seed"), py::arg("release"), py::arg("release_sd"), py::arg("velocity_sd"), py::arg("progress"));
+  m.def("parameters", &parameter_table);
+  m.def("observables", &observable_table);
   m.def("geometry", &geometry, py::arg("model"));
   m.def("parse_values", &parse_values, py::arg("name"), py::arg("text"));
   m.def("default_params", &default_params);
@@ -452,4 +531,5 @@ PYBIND11_MODULE(_funnel, m) {
   m.def("closed", &closed, py::arg("model"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
         py::arg("max_time"), py::arg("max_coll"), py::arg("window"), py::arg("slip_tol"), py::arg("height_tol"));
   bind_retrace(m);
+  bind_3d(m);
 }

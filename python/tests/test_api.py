@@ -200,8 +200,8 @@ def test_ensemble_result_and_per_sample_arrays():
 def test_sweep_columns_dtypes_and_grid_order():
     s = funnel.sweep(mu=np.array([0.0, 1.0]), theta=(40, 50, 60), samples=8)
     n = 6
-    assert list(s)[:11] == ["theta", "e", "mu", "beta0", "radius", "gap", "inertia", "t_max", "max_collisions",
-                            "release_dist", "samples"]
+    assert list(s)[:15] == ["theta", "e", "mu", "beta0", "radius", "gap", "inertia", "t_max", "max_collisions",
+                            "release_height", "release_u", "release_v", "release_spin", "release_dist", "samples"]
     assert list(s)[-4:] == ["exited", "rest", "trapped", "total_collisions"]
     for name, values in s.items():
         assert values.shape == (n,), name

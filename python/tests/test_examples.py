@@ -49,3 +49,24 @@ def test_custom_sweep_example(tmp_path, cli):
     # The friction dependence of the jump it prints: larger with more friction.
     ratios = [float(line.rsplit("= ", 1)[1]) for line in out.splitlines() if "46° / 44°" in line]
     assert len(ratios) == 3 and np.all(np.diff(ratios) > 0) and ratios[-1] > 2
+
+
+def test_exit_and_wear_example(tmp_path):
+    out = _run("exit_and_wear.py", tmp_path)
+    assert (tmp_path / "exit_wear.png").read_bytes()[:8] == PNG_MAGIC
+    with open(tmp_path / "exit_wear.csv", newline="") as f:
+        rows = {int(float(r["theta"])): r for r in csv.DictReader(f)}
+    assert sorted(rows) == [30, 44, 46, 60]
+    # The numbers it prints are the library's: the mean exit speed of the 46° ensemble.
+    assert float(rows[46]["exit_speed_mean"]) == funnel_exit_speed(46)
+    # Above 45° the particle leaves slower (it lost more energy bouncing) and the walls take
+    # several times the impulse, most of it low down.
+    assert float(rows[46]["exit_speed_mean"]) < float(rows[44]["exit_speed_mean"])
+    assert float(rows[46]["impulse_mean"]) > 2 * float(rows[44]["impulse_mean"])
+    assert float(rows[46]["lowest_fifth_share"]) > 0.5
+    assert "lowest fifth" in out
+
+
+def funnel_exit_speed(theta):
+    import funnel
+    return funnel.ensemble(theta=theta, samples=400, wear_bins=20)["exit_speed"]["mean"]

@@ -1,0 +1,109 @@
+"""The designer's outputs in Python: exit state, wear, release control, random ensembles,
+progress and interruption."""
+
+import math
+import signal
+import time
+
+import numpy as np
+import pytest
+
+import funnel
+
+
+def test_exit_state_balances_the_energy_and_is_none_when_trapped():
+    r = funnel.simulate(release=-0.4, theta=50, e=0.9, mu=0.5, release_spin=3.0)
+    assert r["status"] == "exited"
+    g = funnel.geometry(theta=50)
+    kinetic = 0.5 * (r["exit_u"] ** 2 + r["exit_v"] ** 2) + 0.5 * 0.4 * 0.01**2 * r["exit_spin"] ** 2
+    e0 = g["y_release"] + 0.5 * 0.4 * 0.01**2 * 3.0**2
+    assert kinetic + g["y_bottom"] == pytest.approx(e0 - r["energy_loss"], rel=1e-12)
+    assert r["exit_speed"] == pytest.approx(math.hypot(r["exit_u"], r["exit_v"]), rel=1e-15)
+    trapped = funnel.simulate(release=0.3, t_max=1.0)
+    assert trapped["status"] == "trapped" and trapped["exit_speed"] is None
+
+
+def test_straight_throw_through_the_gap():
+    r = funnel.simulate(release=0.0, release_v=-0.7, release_height=1.5)
+    speed = math.sqrt(0.49 + 3.0)
+    assert r["duration"] == pytest.approx(speed - 0.7, rel=1e-14)
+    assert r["exit_speed"] == pytest.approx(speed, rel=1e-14)
+    assert r["collisions"] == 0
+
+
+def test_wear_arrays_sum_to_the_totals():
+    r = funnel.simulate(release=0.55, theta=35, e=0.4, wear_bins=9)
+    w = r["wear"]
+    assert w["left"]["impulse"].shape == (9,) and w["left"]["s"][0] == pytest.approx(w["bin_width"] / 2)
+    total = sum(w[s]["impulse"].sum() + w[s]["edge"]["impulse"] for s in ("left", "right"))
+    assert total == pytest.approx(r["impulse"], rel=1e-12)
+    e = funnel.ensemble(samples=200, theta=60, wear_bins=5)
+    normal = sum(e["wear"][s]["normal_impulse"].sum() + e["wear"][s]["edge"]["normal_impulse"]
+                 for s in ("left", "right"))
+    assert normal == pytest.approx(e["normal_impulse"]["mean"], rel=1e-12)
+
+
+def test_random_ensembles_do_not_depend_on_threads_and_match_the_cli(cli):
+    kw = dict(samples=150, release_dist="gaussian", release=0.1, release_sd=0.4, velocity_sd=0.02, seed=11, theta=48)
+    a = funnel.ensemble(threads=1, **kw)
+    b = funnel.ensemble(threads=2, **kw)
+    assert a == b
+    assert a["seed"] == 11 and a["simulated_collisions"] == a["total_collisions"]
+    ref = cli("ensemble", "--samples", 150, "--release-dist", "gaussian", "--release", 0.1, "--release-sd", 0.4,
+              "--velocity-sd", 0.02, "--seed", 11, "--theta", 48)
+    del ref["provenance"]
+    assert a == ref
+    ps = funnel.ensemble(per_sample=True, **kw)["per_sample"]
+    assert np.all(np.abs(ps["release"]) < 1) and np.std(ps["u0"]) > 0
+
+
+def test_bad_options_raise_with_the_library_message():
+    with pytest.raises(ValueError, match=r"^invalid release-sd = 0: valid range is 0 < release-sd <= 10"):
+        funnel.ensemble(release_dist="gaussian", release_sd=0.0)
+    with pytest.raises(ValueError, match=r"^invalid seed = -1"):
+        funnel.ensemble(seed=-1)
+    with pytest.raises(ValueError, match=r"^invalid release-height = -1"):
+        funnel.simulate(release=0.0, release_height=-1.0)
+    with pytest.raises(ValueError, match=r"^invalid wear-bins = -3"):
+        funnel.simulate(release=0.0, wear_bins=-3)
+
+
+def test_progress_reports_every_work_unit():
+    seen = []
+    funnel.ensemble(samples=400, progress=lambda done, total: seen.append((done, total)))
+    assert seen and seen[-1][0] == seen[-1][1] and [d for d, _ in seen] == sorted(d for d, _ in seen)
+    funnel.sweep(theta=[40, 50], samples=50, progress=True)  # tqdm or a text line, never an error
+
+
+def test_ctrl_c_interrupts_a_long_ensemble():
+    def interrupt(done, total):
+        signal.raise_signal(signal.SIGINT)
+
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        funnel.ensemble(samples=2_000_000, theta=46, threads=1, progress=interrupt)
+    assert time.monotonic() - start < 30  # the whole run takes minutes
+
+
+def test_the_tables_describe_every_parameter_and_observable():
+    keys = [p["key"] for p in funnel.PARAMETERS if p["option"]]
+    assert list(keys) == list(funnel.MODEL_PARAMETERS)
+    assert "release_height" in keys and "exit_speed" in funnel.OBSERVABLES
+    assert all(p["range"] for p in funnel.PARAMETERS)
+    r = funnel.simulate(release=0.2)
+    assert all(o["name"] in r for o in funnel.OBSERVABLE_TABLE)
+
+
+def test_the_wear_figure_is_made_and_drawn(cli, tmp_path):
+    import json
+
+    from funnel import plot
+    cli("paper", "--quick", "--no-plots", "--only", "figwear", "--out", tmp_path, json_output=False)
+    meta = json.loads((tmp_path / "figwear" / "figwear.json").read_text())
+    assert meta["check"]["holds"] is True and meta["beyond_paper"] is True
+    totals = {t["theta"]: t for t in meta["totals"]}
+    assert totals[46.0]["impulse_per_particle"] > 2 * totals[44.0]["impulse_per_particle"]
+    assert plot.main([str(tmp_path)]) == 0
+    png = tmp_path / "figwear" / "figwear.png"
+    assert png.stat().st_size > 10_000
+    assert "Beyond the paper" in (tmp_path / "index.html").read_text()

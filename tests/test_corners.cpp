@@ -1,0 +1,290 @@
+// The corners and the outputs designers need: no flight enters a wall or a corner over whole
+// ensembles (rebuilt from the event logs), the exit state, the wear record, release control.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <cmath>
+#include <vector>
+
+#include "funnel/audit.hpp"
+#include "funnel/ensemble.hpp"
+#include "funnel/observables.hpp"
+#include "funnel/wear.hpp"
+#include "test_util.hpp"
+
+namespace funnel {
+namespace {
+
+using test::near;
+
+Params params_with(double theta, double e, double mu, double beta0) {
+  Params p = default_params();
+  p.theta = theta;
+  p.e = e;
+  p.mu = mu;
+  p.beta0 = beta0;
+  return p;
+}
+
+TEST(Corners, NoFreeFlightEntersAWallOrACornerOverWholeEnsembles) {
+  // Slow particles at small angles and low restitution reach the ends of the faces and the
+  // edges slowly; before sustained edge contacts 6-16% of these releases passed through a corner.
+  std::int64_t edge_contacts = 0, trajectories = 0;
+  for (const double theta : {10.0, 20.0, 30.0}) {
+    for (const double e : {0.1, 0.4}) {
+      for (const double beta0 : {0.0, 0.31, -0.31}) {
+        const Params p = params_with(theta, e, 1.0, beta0);
+        const Geometry g = make_geometry(p);
+        const std::int64_t n = 4000;
+        std::vector<FlightAudit> audits(static_cast<std::size_t>(n));
+        std::vector<std::int64_t> contacts(static_cast<std::size_t>(n));
+#pragma omp parallel for schedule(dynamic, 64)
+        for (std::int64_t k = 0; k < n; ++k) {
+          const double f = release_fraction(ReleaseDist::Line, k, n);
+          EventLog log;
+          const Trajectory t = simulate_release(p, g, f, &log);
+          audits[static_cast<std::size_t>(k)] = audit_flights(g, release_state(p, g, f), log.events);
+          contacts[static_cast<std::size_t>(k)] = t.edge_contacts;
+        }
+        FlightAudit total;
+        for (std::int64_t k = 0; k < n; ++k) {
+          total.merge(audits[static_cast<std::size_t>(k)]);
+          edge_contacts += contacts[static_cast<std::size_t>(k)];
+        }
+        trajectories += total.trajectories;
+        EXPECT_EQ(total.edge_overlaps, 0) << theta << " " << e << " " << beta0;
+        EXPECT_EQ(total.face_crossings, 0) << theta << " " << e << " " << beta0;
+        EXPECT_EQ(total.exits_outside, 0) << theta << " " << e << " " << beta0;
+        EXPECT_GE(total.min_edge_distance, 1.0 - audit_tolerance) << theta << " " << e << " " << beta0;
+      }
+    }
+  }
+  EXPECT_EQ(trajectories, 18 * 4000);
+  EXPECT_GT(edge_contacts, 100);  // the corner contacts are really exercised
+}
+
+TEST(Corners, TheAuditFindsAFlightThroughACorner) {
+  // The audit itself can fail: a flight from C* along the face at v^2 < a cos(theta), which
+  // bends into the edge circle, is caught.
+  const Params p = params_with(30.0, 0.5, 1.0, 0.0);
+  const Geometry g = make_geometry(p);
+  State s;
+  s.r = {-g.x_face_end, g.y_face_end};
+  s.v = 0.05 * Vec2{g.cos_t, -g.sin_t};
+  ASSERT_LT(0.05 * 0.05, g.radius * g.cos_t);
+  Event exit;
+  exit.kind = EventKind::Exit;
+  exit.time = 0.2;
+  exit.position = advance(s, 0.2).r;
+  exit.velocity_after = advance(s, 0.2).v;
+  const FlightAudit a = audit_flights(g, s, {exit});
+  EXPECT_EQ(a.edge_overlaps, 1);
+  EXPECT_LT(a.min_edge_distance, 0.99);
+}
+
+TEST(Corners, EdgeContactsAreLoggedTimedAndBooked) {
+  // theta = 10, e = 0.1: releases that end by rolling over an edge.
+  const Params p = params_with(10.0, 0.1, 1.0, 0.0);
+  const Geometry g = make_geometry(p);
+  int found = 0;
+  for (std::int64_t k = 1300; k < 1400 && found < 5; ++k) {
+    const double f = release_fraction(ReleaseDist::Line, k, 4000);
+    EventLog log;
+    const Trajectory t = simulate_release(p, g, f, &log);
+    if (t.edge_contacts == 0) continue;
+    ++found;
+    double contact_time = 0.0, start_time = 0.0, lost = 0.0;
+    int starts = 0, ends = 0;
+    for (const Event& e : log.events) {
+      lost += e.energy_lost;
+      if (e.kind == EventKind::EdgeContactStart || e.kind == EventKind::ContactStart) {
+        start_time = e.time;
+        starts += e.kind == EventKind::EdgeContactStart;
+      }
+      if (e.kind == EventKind::EdgeContactEnd || e.kind == EventKind::ContactEnd) {
+        contact_time += e.time - start_time;
+        ends += e.kind == EventKind::EdgeContactEnd;
+        EXPECT_GE(e.j_n, 0.0);
+      }
+      if (e.kind == EventKind::EdgeContactEnd) {
+        // On the edge circle at the end.
+        const Vec2 d = e.position - edge_point(g, *e.wall);
+        EXPECT_TRUE(near(std::hypot(d.x, d.y), g.radius, 1e-13));
+      }
+    }
+    EXPECT_EQ(starts, t.edge_contacts);
+    EXPECT_EQ(ends, t.edge_contacts);
+    EXPECT_TRUE(near(contact_time, t.contact_time, 1e-12));
+    EXPECT_TRUE(near(lost, t.energy_loss, 1e-9, 1e-15));
+    EXPECT_TRUE(near(t.energy_loss_events, t.energy_loss, 1e-9, 1e-15));
+  }
+  EXPECT_GT(found, 0);
+}
+
+TEST(ExitState, EnergyAtTheExitBalancesTheLoss) {
+  // 1/2 (u^2 + v^2) + 1/2 kappa a^2 omega^2 + y_b = E0 - energy_loss, for every exited sample.
+  for (const double theta : {15.0, 44.0, 60.0}) {
+    for (const double e : {0.3, 0.99}) {
+      Params p = params_with(theta, e, 0.5, 0.31);
+      p.release_v = -0.1;
+      p.release_spin = 2.0;
+      EnsembleOptions o{300, ReleaseDist::Line, 0, true};
+      const EnsembleResult r = run_ensemble(p, o);
+      const Geometry g = make_geometry(p);
+      for (const Sample& s : r.per_sample) {
+        const Trajectory& t = s.trajectory;
+        ASSERT_EQ(t.status, Status::Exited);
+        const double e0 = energy(s.release, p.inertia, p.radius);
+        const double u = value(t, Observable::ExitU), v = value(t, Observable::ExitV);
+        const double w = value(t, Observable::ExitSpin);
+        const double at_exit = 0.5 * (u * u + v * v) + 0.5 * p.inertia * p.radius * p.radius * w * w + g.y_bottom;
+        EXPECT_TRUE(near(at_exit, e0 - t.energy_loss, 1e-12, 1e-14));
+        EXPECT_TRUE(near(value(t, Observable::ExitSpeed), std::hypot(u, v), 1e-15));
+        EXPECT_LT(v, 0.0);
+        EXPECT_TRUE(near(value(t, Observable::ExitAngle), std::atan2(u, -v) * 180.0 / std::acos(-1.0), 1e-15));
+        EXPECT_LE(std::fabs(value(t, Observable::ExitX)), g.half_gap - g.radius * (1 - 1e-12));
+      }
+    }
+  }
+}
+
+TEST(ExitState, AStraightThrowThroughTheGapMatchesTheClosedForm) {
+  // x0 = 0 with velocity (0, -v0): it falls straight through, t = sqrt(v0^2 + 2 H0) - v0 and
+  // exit speed sqrt(v0^2 + 2 H0).
+  for (const double h0 : {1.0, 0.3, 2.5}) {
+    for (const double v0 : {0.0, 0.5, 3.0}) {
+      Params p = default_params();
+      p.release_height = h0;
+      p.release_v = -v0;
+      const Geometry g = make_geometry(p);
+      const Trajectory t = simulate_release(p, g, 0.0);
+      ASSERT_EQ(t.status, Status::Exited);
+      EXPECT_EQ(t.collisions, 0);
+      const double speed = std::sqrt(v0 * v0 + 2.0 * h0);
+      EXPECT_TRUE(near(t.duration, speed - v0, 1e-14)) << h0 << " " << v0;
+      EXPECT_TRUE(near(value(t, Observable::ExitSpeed), speed, 1e-14));
+      EXPECT_EQ(value(t, Observable::ExitAngle), 0.0);
+      EXPECT_EQ(value(t, Observable::ExitX), 0.0);
+    }
+  }
+}
+
+TEST(Release, AnUpwardThrowComesBackAndNeverLeavesThroughTheTop) {
+  // The walls go up without limit: a fast upward release climbs far above the release line,
+  // comes back and still exits through the gap, with every flight clear of the walls.
+  for (const double u0 : {0.0, 2.0, -7.0}) {
+    Params p = params_with(55.0, 0.9, 0.5, 0.0);
+    p.release_u = u0;
+    p.release_v = 4.0;
+    p.release_spin = -30.0;
+    const Geometry g = make_geometry(p);
+    EventLog log;
+    const Trajectory t = simulate_release(p, g, 0.4, &log);
+    EXPECT_EQ(t.status, Status::Exited) << u0;
+    double highest = 0.0;
+    for (const Event& e : log.events) highest = std::max(highest, e.position.y);
+    if (u0 != 0.0) {
+      EXPECT_GT(highest, g.y_release);
+    }
+    EXPECT_TRUE(audit_flights(g, release_state(p, g, 0.4), log.events).clean()) << u0;
+    EXPECT_TRUE(near(t.energy_loss_events, t.energy_loss, 1e-9, 1e-14));
+  }
+}
+
+TEST(Wear, BinsSumToTheTrajectoryTotals) {
+  for (const double theta : {12.0, 44.0, 60.0}) {
+    for (const double e : {0.2, 0.99}) {
+      const Params p = params_with(theta, e, 1.0, 0.0);
+      const Geometry g = make_geometry(p);
+      for (const double f : {-0.83, -0.2, 0.41}) {
+        Wear w = Wear::make(g, 17);
+        const Trajectory t = simulate_release(p, g, f, nullptr, &w);
+        double collisions = 0, normal = 0, total = 0;
+        for (const WallWear& ww : w.walls) {
+          for (int k = 0; k < w.bins; ++k) {
+            collisions += ww.collisions[static_cast<std::size_t>(k)];
+            normal += ww.normal_impulse[static_cast<std::size_t>(k)];
+            total += ww.impulse[static_cast<std::size_t>(k)];
+          }
+          collisions += ww.edge_collisions;
+          normal += ww.edge_normal_impulse;
+          total += ww.edge_impulse;
+        }
+        EXPECT_EQ(collisions, static_cast<double>(t.collisions));
+        EXPECT_TRUE(near(normal, t.normal_impulse, 1e-12)) << theta << " " << e << " " << f;
+        EXPECT_TRUE(near(total, t.impulse, 1e-12)) << theta << " " << e << " " << f;
+        EXPECT_TRUE(near(w.bin_width * w.bins, (g.y_release - g.y_bottom) / g.sin_t, 1e-15));
+        // Recording the wear changes nothing else.
+        const Trajectory plain = simulate_release(p, g, f);
+        EXPECT_EQ(plain.duration, t.duration);
+        EXPECT_EQ(plain.impulse, t.impulse);
+      }
+    }
+  }
+}
+
+TEST(Wear, ASlideSpreadsItsImpulseOverTheBinsItCrosses) {
+  // theta = 12, e = 0.2: the particle collapses onto a face high up and slides to its end; the
+  // contact's normal impulse cos(theta) dt lands in every bin below the collapse.
+  const Params p = params_with(12.0, 0.2, 1.0, 0.0);
+  const Geometry g = make_geometry(p);
+  Wear w = Wear::make(g, 10);
+  EventLog log;
+  simulate_release(p, g, -0.9, &log, &w);
+  double start_height = -1.0;
+  for (const Event& e : log.events) {
+    if (e.kind == EventKind::ContactStart && start_height < 0.0) start_height = e.position.y;
+  }
+  ASSERT_GT(start_height, g.y_face_end);
+  const double s_start = (start_height - g.y_face_end) / g.sin_t;
+  const auto last = static_cast<std::size_t>(std::floor(s_start / w.bin_width));
+  for (std::size_t k = 0; k < last; ++k) EXPECT_GT(w[Wall::Left].normal_impulse[k], 0.0) << k;
+}
+
+TEST(Wear, EnsembleWearIsThePerSampleMeanAndMirrorSymmetric) {
+  const Params p = params_with(46.0, 0.99, 1.0, 0.0);
+  EnsembleOptions o{400, ReleaseDist::Line, 0, false};
+  o.wear_bins = 8;
+  const EnsembleResult r = run_ensemble(p, o);
+  double normal = 0;
+  for (const WallWear& ww : r.wear.walls) {
+    for (const double x : ww.normal_impulse) normal += x;
+    normal += ww.edge_normal_impulse;
+  }
+  EXPECT_TRUE(near(normal, r[Observable::NormalImpulse].mean, 1e-12));
+  // A symmetric ensemble wears both walls alike (to rounding of the sums' order).
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_TRUE(near(r.wear[Wall::Left].impulse[static_cast<std::size_t>(k)],
+                     r.wear[Wall::Right].impulse[static_cast<std::size_t>(k)], 1e-12));
+  }
+  // The same bits for any thread count.
+  EnsembleOptions one = o;
+  one.threads = 1;
+  const EnsembleResult s = run_ensemble(p, one);
+  EXPECT_EQ(s.wear[Wall::Left].impulse, r.wear[Wall::Left].impulse);
+}
+
+TEST(Release, ParametersAreValidatedWithNameValueAndRange) {
+  auto message = [](Params p) { return validate(p) ? validate(p)->message() : std::string(); };
+  Params p = default_params();
+  p.release_height = 0.0;
+  EXPECT_EQ(message(p).rfind("invalid release-height = 0:", 0), 0u) << message(p);
+  p.release_height = 0.005;  // below the ends of the faces (a cos(theta) = 0.005 at 60 degrees)
+  EXPECT_NE(message(p).find("release-height"), std::string::npos);
+  p.release_height = std::nan("");
+  EXPECT_NE(message(p).find("release-height = nan"), std::string::npos);
+  p = default_params();
+  p.release_u = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(p).rfind("invalid release-u = inf", 0), 0u);
+  p = default_params();
+  p.release_spin = 1e9;
+  EXPECT_EQ(message(p).rfind("invalid release-spin = 1e+09", 0), 0u);
+  p = default_params();
+  p.release_height = 3.0;
+  p.release_v = 1.0;
+  EXPECT_FALSE(validate(p).has_value());
+}
+
+}  // namespace
+}  // namespace funnel

@@ -1,0 +1,221 @@
+// Sustained contact with an edge point: closed forms, and the phases against an independent
+// integration of the equations of motion.
+#include "funnel/edge_contact.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "test_util.hpp"
+
+namespace funnel {
+namespace {
+
+using test::near;
+
+constexpr double pi = std::numbers::pi;
+
+/// A centre on the circle of radius a about `e` at angle psi, moving with angular rate `rate`.
+State on_circle(Vec2 e, double a, double psi, double rate, double omega) {
+  State s;
+  s.r = e + a * Vec2{std::cos(psi), std::sin(psi)};
+  s.v = (a * rate) * Vec2{-std::sin(psi), std::cos(psi)};
+  s.omega = omega;
+  return s;
+}
+
+double angle_of(const State& s, Vec2 e) { return std::atan2(s.r.y - e.y, s.r.x - e.x); }
+
+/// The contact by brute force: the equations of motion of docs/model.md §5b integrated with a
+/// fixed-step fourth-order Runge-Kutta method (test only), with the regime rules applied at every
+/// step and the events (slip zero, loss of grip, take-off) located by linear interpolation.
+struct Reference {
+  double psi, rate, omega, time = 0.0, work = 0.0, normal_impulse = 0.0;
+  bool took_off = false;
+};
+
+Reference integrate(double psi, double rate, double omega, double psi_high, const Material& m, double dt) {
+  const double a = m.radius, k = m.kappa, mu = m.mu;
+  Reference r{psi, rate, omega};
+  int regime = 0;  // 0 rolling, +-1 sliding with that slip sign
+  auto slip = [&](double p, double w) { return a * (w - p); };
+  auto pick = [&](double ps, double rt, double om) {
+    const double s = slip(rt, om);
+    const double n = std::sin(ps) - a * rt * rt;
+    if (std::fabs(s) > 1e-12) return s > 0 ? 1 : -1;
+    return k * std::fabs(std::cos(ps)) <= mu * (1 + k) * n ? 0 : (std::cos(ps) >= 0 ? 1 : -1);
+  };
+  regime = pick(psi, rate, omega);
+  auto deriv = [&](double ps, double rt, double om, int reg, double out[3]) {
+    const double n = std::sin(ps) - a * rt * rt;
+    const double f = reg == 0 ? -k * std::cos(ps) / (1 + k) : -reg * mu * n;
+    out[0] = rt;
+    out[1] = (-std::cos(ps) - f) / a;
+    out[2] = reg == 0 ? out[1] : f / (k * a);
+  };
+  for (long step = 0; step < 100000000; ++step) {
+    double y[3] = {r.psi, r.rate, r.omega}, k1[3], k2[3], k3[3], k4[3], t[3];
+    deriv(y[0], y[1], y[2], regime, k1);
+    for (int i = 0; i < 3; ++i) t[i] = y[i] + 0.5 * dt * k1[i];
+    deriv(t[0], t[1], t[2], regime, k2);
+    for (int i = 0; i < 3; ++i) t[i] = y[i] + 0.5 * dt * k2[i];
+    deriv(t[0], t[1], t[2], regime, k3);
+    for (int i = 0; i < 3; ++i) t[i] = y[i] + dt * k3[i];
+    deriv(t[0], t[1], t[2], regime, k4);
+    double next[3];
+    for (int i = 0; i < 3; ++i) next[i] = y[i] + dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+    const double n0 = std::sin(y[0]) - a * y[1] * y[1], n1 = std::sin(next[0]) - a * next[1] * next[1];
+    if (n1 <= 0.0) {  // take-off inside the step
+      const double f = n0 / (n0 - n1);
+      r.time += f * dt;
+      r.psi = y[0] + f * (next[0] - y[0]);
+      r.rate = y[1] + f * (next[1] - y[1]);
+      r.omega = y[2] + f * (next[2] - y[2]);
+      r.normal_impulse += 0.5 * n0 * f * dt;
+      const double s = slip(y[1], y[2]);
+      r.work += regime == 0 ? 0.0 : mu * n0 * std::fabs(s) * 0.5 * f * dt;
+      r.took_off = true;
+      return r;
+    }
+    const double s0 = slip(y[1], y[2]), s1 = slip(next[1], next[2]);
+    r.normal_impulse += 0.5 * (n0 + n1) * dt;
+    if (regime != 0) r.work += mu * 0.5 * (n0 * std::fabs(s0) + n1 * std::fabs(s1)) * dt;
+    r.time += dt;
+    r.psi = next[0];
+    r.rate = next[1];
+    r.omega = next[2];
+    if (r.psi >= psi_high) return r;
+    if (regime != 0 && s1 * regime <= 0.0) {
+      r.omega = r.rate;  // slip reached zero
+      regime = pick(r.psi, r.rate, r.omega);
+    } else if (regime == 0 && k * std::fabs(std::cos(r.psi)) > mu * (1 + k) * n1) {
+      regime = std::cos(r.psi) >= 0 ? 1 : -1;
+    }
+  }
+  return r;
+}
+
+Material material_of(double mu, double kappa = 0.4, double a = 0.01) {
+  Material m;
+  m.mu = mu;
+  m.kappa = kappa;
+  m.radius = a;
+  return m;
+}
+
+TEST(EdgeContact, FrictionlessBallLeavesTheCornerWhereTheClosedFormSays) {
+  // mu = 0: a W/2 + sin(psi) is conserved, the spin does not change, and N = sin - a W vanishes
+  // at sin(psi) = (a W0 + 2 sin(psi0))/3 (the ball over a hemisphere).
+  const Material m = material_of(0.0);
+  const Vec2 e{-0.02, -0.01};
+  for (const double psi0 : {0.5, 1.0, 1.3}) {
+    for (const double rate0 : {-0.5, -3.0}) {
+      const State start = on_circle(e, m.radius, psi0, rate0, 7.0);
+      ASSERT_GT(edge_normal_force(start, e, m.radius), 0.0);
+      const EdgeContactResult r = edge_contact(start, {e, psi0 - pi, psi0}, m);
+      EXPECT_EQ(r.exit, EdgeExit::TakeOff);
+      const double w0 = rate0 * rate0;
+      const double expected = std::asin((m.radius * w0 + 2.0 * std::sin(psi0)) / 3.0);
+      EXPECT_TRUE(near(angle_of(r.end, e), expected, 1e-12)) << psi0 << " " << rate0;
+      EXPECT_EQ(r.end.omega, 7.0);
+      EXPECT_NEAR(r.energy_lost, 0.0, 1e-15);
+      EXPECT_TRUE(near(edge_normal_force(r.end, e, m.radius), 0.0, 0.0, 1e-12));
+      // Time and normal impulse against the brute-force integration.
+      const Reference ref = integrate(psi0, rate0, 7.0, psi0 + 1.0, m, 1e-7);
+      EXPECT_TRUE(near(r.duration, ref.time, 1e-6)) << r.duration << " " << ref.time;
+      EXPECT_TRUE(near(r.normal_impulse, ref.normal_impulse, 1e-5));
+    }
+  }
+}
+
+TEST(EdgeContact, RollingOverTheCornerConservesEnergyUntilItSlips) {
+  // Rolling needs kappa cos(psi) <= mu (1 + kappa) N with N falling as the ball speeds up: it
+  // always slips before it takes off; the whole contact (roll, slide, take-off) against the
+  // brute-force integration.
+  for (const double mu : {0.5, 1.0, 5.0}) {
+    const Material m = material_of(mu);
+    const Vec2 e{0.0, 0.0};
+    const double psi0 = 1.2, rate0 = -1.0;
+    const State start = on_circle(e, m.radius, psi0, rate0, rate0);  // s = a (omega - psi') = 0
+    const EdgeContactResult r = edge_contact(start, {e, psi0 - pi, psi0}, m);
+    EXPECT_EQ(r.first_regime, Regime::Rolling) << mu;
+    EXPECT_EQ(r.last_regime, Regime::Sliding) << mu;
+    EXPECT_EQ(r.exit, EdgeExit::TakeOff);
+    const Reference ref = integrate(psi0, rate0, rate0, psi0 + 1.0, m, 2e-8);
+    ASSERT_TRUE(ref.took_off);
+    EXPECT_TRUE(near(angle_of(r.end, e), ref.psi, 1e-6)) << mu;
+    EXPECT_TRUE(near(r.end.omega, ref.omega, 1e-5)) << mu;
+    EXPECT_TRUE(near(r.duration, ref.time, 1e-5)) << mu;
+    EXPECT_TRUE(near(r.energy_lost, ref.work, 1e-4, 1e-12)) << mu << " " << r.energy_lost << " " << ref.work;
+    EXPECT_GT(r.energy_lost, 0.0);
+  }
+}
+
+TEST(EdgeContact, BackSpinCanStopTheBallAndSendItBackUpToTheFace) {
+  // Strong back-spin with mu tan(psi) > 1: friction decelerates the ball on the corner, it turns
+  // and climbs back to the end of the arc (the face above takes over).
+  const Material m = material_of(2.0);
+  const Vec2 e{0.0, 0.0};
+  const double psi0 = 1.2, rate0 = -0.3;
+  const State start = on_circle(e, m.radius, psi0, rate0, 400.0);
+  const EdgeContactResult r = edge_contact(start, {e, psi0 - pi, psi0}, m);
+  EXPECT_EQ(r.exit, EdgeExit::High);
+  const Reference ref = integrate(psi0, rate0, 400.0, psi0, m, 1e-8);
+  EXPECT_FALSE(ref.took_off);
+  EXPECT_TRUE(near(r.duration, ref.time, 1e-5)) << r.duration << " " << ref.time;
+  const double rate_end = (-std::sin(psi0) * r.end.v.x + std::cos(psi0) * r.end.v.y) / m.radius;
+  EXPECT_GT(rate_end, 0.0);  // moving up
+  EXPECT_TRUE(near(rate_end, ref.rate, 1e-4));
+  EXPECT_TRUE(near(r.end.omega, ref.omega, 1e-5));
+}
+
+TEST(EdgeContact, EnergyLostIsTheWorkOfFrictionAndNeverNegative) {
+  for (const double omega : {-300.0, -50.0, 0.0, 80.0}) {
+    const Material m = material_of(0.7, 2.0 / 3.0);
+    const Vec2 e{0.1, 0.2};
+    const State start = on_circle(e, m.radius, 1.0, -2.0, omega);
+    const EdgeContactResult r = edge_contact(start, {e, 1.0 - pi, 1.0}, m);
+    EXPECT_GE(r.energy_lost, 0.0) << omega;
+    EXPECT_TRUE(near(r.energy_lost, energy(start, m.kappa, m.radius) - energy(r.end, m.kappa, m.radius), 1e-12));
+    const Reference ref = integrate(1.0, -2.0, omega, 1.0 + 1e-9, m, 2e-8);
+    EXPECT_TRUE(near(r.energy_lost, ref.work, 1e-4, 1e-12)) << omega << " " << r.energy_lost << " " << ref.work;
+    // Friction never exceeds mu N while sliding: |integral of F dt| <= mu * integral of N dt.
+    EXPECT_LE(std::fabs(r.tangential_impulse), m.mu * r.normal_impulse * (1 + 1e-12));
+    EXPECT_GE(r.normal_impulse, 0.0);
+  }
+}
+
+TEST(EdgeContact, ExtremeFrictionStaysFiniteAndLosesNoMoreThanTheKineticEnergy) {
+  // mu = 1e6 makes the sliding solution's exponential as stiff as it gets.
+  for (const double omega : {-200.0, 200.0}) {
+    const Material m = material_of(1e6);
+    const Vec2 e{0.0, 0.0};
+    const State start = on_circle(e, m.radius, 0.9, -5.0, omega);
+    const EdgeContactResult r = edge_contact(start, {e, 0.9 - pi, 0.9}, m);
+    EXPECT_TRUE(std::isfinite(r.end.omega) && std::isfinite(r.duration) && std::isfinite(r.impulse));
+    EXPECT_GE(r.energy_lost, 0.0);
+    const double kinetic = energy(start, m.kappa, m.radius) - start.r.y;
+    EXPECT_LE(r.energy_lost, kinetic);
+  }
+}
+
+TEST(EdgeContact, SlidingWhoseExponentialGrowsFindsItsEventsOnTheFastScale) {
+  // Slip against the motion with mu ~ 1e5 and a tiny sphere: the sliding solution's homogeneous
+  // part grows like exp(2 mu psi), so the take-off comes within ~1e-4 rad of the start, far
+  // inside the first of the uniform event samples (found by the fuzzer: NaN end state).
+  const Material m = material_of(94571.056560506157, 154.70094429778624, 3.5504010424486853e-06);
+  const Vec2 e{0.0, 0.0};
+  const double psi = 0.80711984520210622;
+  const State start = on_circle(e, m.radius, psi, 4.3746855775321603, 4.2634469547734364);
+  const EdgeContactResult r = edge_contact(start, {e, 2.9765223376390653 - pi, 2.9765223376390653}, m);
+  ASSERT_TRUE(std::isfinite(r.end.r.x) && std::isfinite(r.end.v.y) && std::isfinite(r.end.omega) &&
+              std::isfinite(r.duration));
+  EXPECT_EQ(r.exit, EdgeExit::TakeOff);
+  EXPECT_NEAR(std::hypot(r.end.r.x, r.end.r.y), m.radius, 1e-12 * m.radius);
+  EXPECT_NEAR(edge_normal_force(r.end, e, m.radius), 0.0, 1e-6 * dot(r.end.v, r.end.v) / m.radius);
+  EXPECT_GE(r.energy_lost, 0.0);
+}
+
+}  // namespace
+}  // namespace funnel
