@@ -91,10 +91,10 @@ TEST_F(Cli, TheThreeDimensionalEventLogRebuildsItsFlights) {
 }
 
 TEST_F(Cli, SeededThreeDimensionalEnsemblesRepeatAndReportOrbits) {
-  const std::string args = "ensemble --space 3d --theta 60 --samples 24 --velocity-sd 0.03 --threads 2 --out ";
-  ASSERT_EQ(run(args + path("a.json") + " --seed 5").code, 0);
+  const std::string args = "ensemble --space 3d --theta 60 --samples 24 --velocity-sd 0.03 --out ";
+  ASSERT_EQ(run(args + path("a.json") + " --seed 5 --threads 2").code, 0);
   ASSERT_EQ(run(args + path("b.json") + " --seed 5 --threads 1").code, 0);
-  ASSERT_EQ(run(args + path("c.json") + " --seed 6").code, 0);
+  ASSERT_EQ(run(args + path("c.json") + " --seed 6 --threads 2").code, 0);
   json a = json::parse(read("a.json")), b = json::parse(read("b.json")), c = json::parse(read("c.json"));
   EXPECT_EQ(a["release_dist"], "disk");
   EXPECT_EQ(a["seed"], 5);

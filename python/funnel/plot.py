@@ -36,6 +36,11 @@ OBSERVABLE_LABELS = {
     "collisions": ("average number of collisions", None),
     "edge_collisions": ("average number of edge collisions", None),
     "contact_time": ("average contact time", r"$\sqrt{H/g}$"),
+    "duration_exited": ("average duration (balls that leave)", r"$\sqrt{H/g}$"),
+    "impulse_exited": ("average impulse (balls that leave)", r"$m\sqrt{gH}$"),
+    "energy_loss_exited": ("average energy loss (balls that leave)", r"$mgH$"),
+    "trapped_fraction": ("fraction trapped (rolling for ever)", None),
+    "orbits": ("average turns about the axis", None),
 }
 
 #: Symbols of the parameters that distinguish curves.
