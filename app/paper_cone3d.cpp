@@ -47,7 +47,7 @@ FigureData cone_3d_sweep(const FigureSpec& fig, int threads, const Progress& pro
   if (sigmas.empty()) sigmas.push_back(0.0);
   const std::vector<Params> points = expand_grid(panel_params(fig, fig.panels.front()), fig.grid);
   std::vector<std::string> names = fig.observables;
-  for (const char* extra : {"duration", "impulse", "energy_loss", "orbits", "trapped_fraction"}) {
+  for (const char* extra : {"orbits_exited", "duration", "impulse", "energy_loss", "orbits", "trapped_fraction"}) {
     if (std::find(names.begin(), names.end(), extra) == names.end()) names.emplace_back(extra);
   }
 
