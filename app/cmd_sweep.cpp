@@ -32,6 +32,9 @@ namespace {
 /// (theta = 60, e = 0.99, mu = 1; docs/performance.md) runs 223 000 trajectories per second on
 /// one thread, 4.5 us each, rounded up. Long-lived trajectories (e near 1, mu = 0) cost more.
 constexpr double seconds_per_trajectory = 5e-6;
+/// The same in 3D: the 3D reference case (theta = 60, sigma = 0.03; docs/performance.md) runs
+/// about 1000 trajectories per second on one thread, 1 ms each.
+constexpr double seconds_per_trajectory_3d = 1e-3;
 /// A sweep with more points, or a longer estimate, runs only with --yes.
 constexpr double max_points_unasked = 1e6;
 constexpr double max_seconds_unasked = 3600.0;
@@ -153,13 +156,16 @@ struct SweepCommand {
     }
     const int threads = resolve_threads(options.threads);
     const double trajectories = points * static_cast<double>(options.samples);
-    const double seconds = trajectories * seconds_per_trajectory / threads;
+    const bool three_d = to_space(space) == Space::ThreeD;
+    const double seconds = trajectories * (three_d ? seconds_per_trajectory_3d : seconds_per_trajectory) / threads;
     if (yes || (points <= max_points_unasked && seconds <= max_seconds_unasked)) return;
     throw UsageError("this sweep needs --yes: " + count_text(points) + " points" +
                      (dims.empty() ? "" : " (" + dims + ")") + " x " + std::to_string(options.samples) + " samples = " +
                      count_text(trajectories) + " trajectories, estimated " + duration_text(seconds) + " on " +
                      std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
-                     " (at 5 us per trajectory and thread; more when e is near 1 or mu = 0). Over 10^6 points or "
+                     (three_d ? " (at 1 ms per 3D trajectory and thread; more with larger sideways velocities). "
+                              : " (at 5 us per trajectory and thread; more when e is near 1 or mu = 0). ") +
+                     "Over 10^6 points or "
                      "an hour, add --yes to run it, or use a coarser grid or fewer samples");
   }
 
