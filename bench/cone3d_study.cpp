@@ -1,4 +1,4 @@
-// The 3D cone study (docs/performance.md, docs/model.md "The axisymmetric funnel in 3D"):
+// The 3D cone study (docs/performance.md, docs/model.md §9):
 //   funnel_cone3d_study speed [--samples N] [--repeat R]
 //       collisions per second of the 3D engine on the reference case (theta = 60, e = 0.99,
 //       mu = 1, beta0 = 0, N = 4000 disk releases, sigma = 0.03, one thread)

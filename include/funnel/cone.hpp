@@ -1,5 +1,5 @@
 // The axisymmetric funnel in 3D: the 2D funnel's meridian section revolved about the vertical
-// axis (docs/model.md, "The axisymmetric funnel in 3D"). A cone face at angle theta, a circular
+// axis (docs/model.md §9). A cone face at angle theta, a circular
 // outlet of diameter d whose rim is a circle; the same parameters and frame as in 2D, with z the
 // second horizontal axis.
 #pragma once

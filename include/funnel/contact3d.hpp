@@ -1,5 +1,5 @@
 // Sustained contact in the axisymmetric funnel: sliding or rolling on the cone face or over the
-// rim (docs/model.md, "The axisymmetric funnel in 3D"). In a meridian plane (no azimuthal
+// rim (docs/model.md §9). In a meridian plane (no azimuthal
 // motion, spin normal to the plane) the 2D closed forms of contact.hpp and edge_contact.hpp are
 // used; otherwise the equations of motion on the surface are integrated with an adaptive
 // Runge-Kutta method with dense output, on which every event is located by root refinement.

@@ -1,5 +1,5 @@
 // One trajectory of the sphere through the axisymmetric funnel in 3D, event by event
-// (docs/model.md, "The axisymmetric funnel in 3D").
+// (docs/model.md §9).
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // Free flight in the axisymmetric funnel and its next event: the cone face, the rim, the exit
-// (docs/model.md, "The axisymmetric funnel in 3D").
+// (docs/model.md §9).
 #pragma once
 
 #include "funnel/cone.hpp"

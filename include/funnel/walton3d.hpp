@@ -1,5 +1,5 @@
 // Walton's collision law in vector form, for the sphere in the axisymmetric funnel
-// (docs/model.md, "The axisymmetric funnel in 3D").
+// (docs/model.md §9).
 #pragma once
 
 #include "funnel/cone.hpp"
