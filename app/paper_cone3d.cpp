@@ -65,32 +65,34 @@ FigureData cone_3d_sweep(const FigureSpec& fig, int threads, const Progress& pro
   const std::string check_obs = fig.check["observable"].value_or(std::string("duration_exited"));
   std::map<std::pair<double, double>, double> check_of;  // (sigma, theta) -> mean of the check's observable
   std::int64_t collisions = 0;
-  const auto n_sigma = static_cast<std::int64_t>(sigmas.size());
-  for (std::size_t i = 0; i < sigmas.size(); ++i) {
-    Ensemble3Options o;
-    o.samples = fig.samples;
-    o.dist = ReleaseDist::Disk;
-    o.velocity_sd = sigmas[i];
-    o.seed = static_cast<std::uint64_t>(setting(fig, "seed", 1.0));
-    o.threads = threads;
-    o.keep_samples = true;  // for the means over the exited samples
-    const auto k = static_cast<std::int64_t>(i);
-    const std::vector<Ensemble3Result> results = run_sweep_3d(points, o, [&](std::int64_t d, std::int64_t t) {
-      if (progress) progress(k * t + d, n_sigma * t);
-    });
-    for (std::size_t j = 0; j < points.size(); ++j) {
-      const Ensemble3Result& r = results[j];
-      std::vector<std::string> row{fig.panels.front().id, number(sigmas[i]), number(points[j].theta)};
-      for (const std::string& name : names) {
-        const Summary s = point_summary(r, name);
-        row.push_back(number(s.mean));
-        row.push_back(number(s.sem));
-      }
-      for (const std::int64_t c : {r.exited, r.trapped, r.periodic, r.total_collisions}) row.push_back(std::to_string(c));
-      out.csv += csv_line(row);
-      check_of[{sigmas[i], points[j].theta}] = point_summary(r, check_obs).mean;
-      collisions += r.total_collisions;
+  // Every (sigma, theta) ensemble in one parallel pool: no barrier between the sigmas.
+  std::vector<Params> all_points;
+  std::vector<double> all_sigmas;
+  for (const double sigma : sigmas) {
+    for (const Params& p : points) {
+      all_points.push_back(p);
+      all_sigmas.push_back(sigma);
     }
+  }
+  Ensemble3Options o;
+  o.samples = fig.samples;
+  o.dist = ReleaseDist::Disk;
+  o.seed = static_cast<std::uint64_t>(setting(fig, "seed", 1.0));
+  o.threads = threads;
+  o.keep_samples = true;  // for the means over the exited samples
+  const std::vector<Ensemble3Result> results = run_sweep_3d(all_points, all_sigmas, o, progress);
+  for (std::size_t j = 0; j < all_points.size(); ++j) {
+    const Ensemble3Result& r = results[j];
+    std::vector<std::string> row{fig.panels.front().id, number(all_sigmas[j]), number(all_points[j].theta)};
+    for (const std::string& name : names) {
+      const Summary s = point_summary(r, name);
+      row.push_back(number(s.mean));
+      row.push_back(number(s.sem));
+    }
+    for (const std::int64_t c : {r.exited, r.trapped, r.periodic, r.total_collisions}) row.push_back(std::to_string(c));
+    out.csv += csv_line(row);
+    check_of[{all_sigmas[j], all_points[j].theta}] = point_summary(r, check_obs).mean;
+    collisions += r.total_collisions;
   }
   out.extra["total_collisions"] = collisions;
 

@@ -102,6 +102,12 @@ State3 ensemble_release_3d(const Params& params, const Cone& cone, const Ensembl
 
 std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const Ensemble3Options& options,
                                           const Progress& progress, const PointDone3& point_done) {
+  return run_sweep_3d(points, std::vector<double>(points.size(), options.velocity_sd), options, progress, point_done);
+}
+
+std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const std::vector<double>& velocity_sds,
+                                          const Ensemble3Options& options, const Progress& progress,
+                                          const PointDone3& point_done) {
   const std::int64_t n = options.samples;
   const std::int64_t blocks_per_point = std::min(max_chunks, (n + min_chunk - 1) / min_chunk);
   const auto n_points = static_cast<std::int64_t>(points.size());
@@ -126,8 +132,10 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
     const Params& params = points[static_cast<std::size_t>(point)];
     const Cone& cone = cones[static_cast<std::size_t>(point)];
     BlockStats3& stats = blocks[static_cast<std::size_t>(task)];
+    Ensemble3Options point_options = options;
+    point_options.velocity_sd = velocity_sds[static_cast<std::size_t>(point)];
     for (std::int64_t k = first; k < last; ++k) {
-      const State3 start = ensemble_release_3d(params, cone, options, k);
+      const State3 start = ensemble_release_3d(params, cone, point_options, k);
       const Trajectory3 t = simulate_3d(params, cone, start);
       stats.add(t);
       if (options.keep_samples) {

@@ -88,6 +88,26 @@ TEST(Ensemble3d, ResultsAreBitIdenticalForAnyThreadCount) {
   EXPECT_GT(a.ode_steps, 0);  // integrated contacts are part of it
 }
 
+TEST(Ensemble3d, OnePoolOverSeveralVelocitySpreadsGivesEachEnsembleBitForBit) {
+  Params p = default_params();
+  p.theta = 46.0;
+  p.t_max = 300.0;
+  Ensemble3Options o;
+  o.samples = 32;
+  o.seed = 3;
+  o.threads = 2;
+  const std::vector<double> sds{0.0, 0.03, 0.1};
+  const std::vector<Ensemble3Result> pooled = run_sweep_3d({p, p, p}, sds, o);
+  for (std::size_t i = 0; i < sds.size(); ++i) {
+    o.velocity_sd = sds[i];
+    const Ensemble3Result alone = run_ensemble_3d(p, o);
+    expect_same(pooled[i][Observable::Duration], alone[Observable::Duration]);
+    expect_same(pooled[i][Observable::Orbits], alone[Observable::Orbits]);
+    EXPECT_EQ(pooled[i].total_collisions, alone.total_collisions);
+  }
+  EXPECT_NE(pooled[0][Observable::Duration].mean, pooled[2][Observable::Duration].mean);
+}
+
 TEST(Ensemble3d, ReleaseVelocitiesAreSeededNormalDraws) {
   Params p = default_params();
   p.release_u = 0.01;

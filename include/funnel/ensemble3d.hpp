@@ -72,4 +72,11 @@ using PointDone3 = std::function<void(std::size_t, const Ensemble3Result&)>;
 std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const Ensemble3Options& options,
                                           const Progress& progress = {}, const PointDone3& point_done = {});
 
+/// The same with one velocity_sd per point (velocity_sds[i] for points[i], overriding
+/// options.velocity_sd; the two vectors have the same size), so that ensembles differing in
+/// their random velocities share one pool. Each result is the same, bit for bit.
+std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const std::vector<double>& velocity_sds,
+                                          const Ensemble3Options& options, const Progress& progress = {},
+                                          const PointDone3& point_done = {});
+
 }  // namespace funnel
