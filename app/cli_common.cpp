@@ -37,16 +37,18 @@ void set_or_throw(Params& p, const std::string& name, double value, const std::s
 
 }  // namespace
 
-void add_model_options(CLI::App& app, ModelOptions& options, bool lists) {
-  for (const ParameterInfo& p : parameters()) {
+void add_model_options(CLI::App& app, ModelOptions& options, bool lists, Space space) {
+  for (const ParameterInfo& p : parameters(space)) {
     if (!p.option) continue;
     std::string help = std::string(p.meaning);
     if (!p.unit.empty()) help += " [" + std::string(p.unit) + "]";
     help += "; " + std::string(p.range) + " (default " + std::string(p.default_text) + ")";
     if (lists) help += "; a list a,b,c or a range start:stop:step sweeps it";
     const std::string name(p.name);
+    // In 3D the 2D spin is the spin about z.
+    const std::string flags = "--" + name + (space == Space::ThreeD && name == "release-spin" ? ",--release-spin-z" : "");
     app.add_option_function<std::string>(
-           "--" + name, [&options, name](const std::string& value) { options.given[name] = value; }, help)
+           flags, [&options, name](const std::string& value) { options.given[name] = value; }, help)
         ->type_name(lists ? "LIST" : "NUM");
   }
 }
@@ -64,16 +66,32 @@ Params base_params(const ModelOptions& options) {
   return p;
 }
 
-Params to_params(const ModelOptions& options) {
+Params to_params(const ModelOptions& options, Space space) {
   Params p = base_params(options);
   for (const auto& [name, text] : options.given) set_or_throw(p, name, parse_single(name, text), text);
-  if (const auto err = validate(p)) throw UsageError(err->message());
+  if (const auto err = validate(p, space)) throw UsageError(err->message());
   return p;
+}
+
+void add_space_option(CLI::App& app, std::string& space) {
+  app.add_option("--space", space,
+                 "2d: the paper's 2D funnel; 3d: the funnel revolved about its vertical axis (a cone with a circular "
+                 "outlet of diameter --gap; sideways velocity, spin vector, orbits about the axis); default 2d")
+      ->type_name("SPACE");
+}
+
+Space to_space(const std::string& text) {
+  const auto s = parse_space(text);
+  if (!s) throw UsageError("invalid space = '" + text + "': valid values are 2d, 3d");
+  return *s;
 }
 
 std::vector<Axis> to_axes(const ModelOptions& options) {
   std::vector<Axis> axes;
-  for (const std::string& name : sweep_parameter_names()) {
+  for (const ParameterInfo& info : parameters(Space::ThreeD)) {
+    // 3D parameters too: in 2D, validate_all then rejects any value but 0.
+    if (!info.option) continue;
+    const std::string name(info.name);
     const auto it = options.given.find(name);
     if (it == options.given.end()) continue;
     std::string reason;
@@ -96,9 +114,9 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
   return axes;
 }
 
-void validate_all(const std::vector<Params>& points) {
+void validate_all(const std::vector<Params>& points, Space space) {
   for (const Params& p : points) {
-    if (const auto err = validate(p)) throw UsageError(err->message());
+    if (const auto err = validate(p, space)) throw UsageError(err->message());
   }
 }
 
@@ -131,7 +149,7 @@ void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool
   app.add_option("--release-dist", text.release_dist,
                  "release distribution: line (2D funnel, x0 uniformly spaced, the paper's), disk (cone, "
                  "uniform over the disk), uniform (x0/L uniform random), gaussian (x0/L normal, mean --release, "
-                 "sd --release-sd, truncated to (-1, 1)); default line")
+                 "sd --release-sd, truncated to (-1, 1)); default line (3d: disk; only line and disk)")
       ->type_name("DIST");
   app.add_option("--seed", text.seed,
                  "seed of the random releases and velocities (a counter-based generator keyed by seed and sample "
@@ -143,7 +161,8 @@ void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool
       ->type_name("SD");
   if (velocity) {
     app.add_option("--velocity-sd", text.velocity_sd,
-                   "standard deviation of a random initial velocity added to each component (u, v), units "
+                   "standard deviation of a random initial velocity added to each component (u, v; in 3d the "
+                   "horizontal u, w), units "
                    "sqrt(gH); 0 <= SIGMA <= 1000 (default 0)")
         ->type_name("SIGMA");
   }

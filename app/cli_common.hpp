@@ -34,17 +34,25 @@ void add_geometry_option(CLI::App& app, ModelOptions& options);
 Params base_params(const ModelOptions& options);
 
 /// Adds one option per model parameter of the library's table (--theta ... --release-spin).
-/// With `lists`, each also accepts a list "a,b,c" or a range "start:stop:step".
-void add_model_options(CLI::App& app, ModelOptions& options, bool lists);
+/// With `lists`, each also accepts a list "a,b,c" or a range "start:stop:step". With
+/// Space::ThreeD, also the 3D ones (--release-w, --release-spin-x/-y; --release-spin-z is
+/// --release-spin), for the commands that take --space.
+void add_model_options(CLI::App& app, ModelOptions& options, bool lists, Space space = Space::TwoD);
 
-/// Parameters from single-valued options over the defaults; throws UsageError if invalid.
-Params to_params(const ModelOptions& options);
+/// Parameters from single-valued options over the defaults; throws UsageError if invalid (in
+/// 2D, also for a 3D option that is not 0).
+Params to_params(const ModelOptions& options, Space space = Space::TwoD);
+
+/// Adds --space (2d or 3d, default 2d).
+void add_space_option(CLI::App& app, std::string& space);
+/// Parses "2d" or "3d"; throws UsageError.
+Space to_space(const std::string& text);
 
 /// Grid axes from list-valued options (and the parameters' defaults for the rest).
 std::vector<Axis> to_axes(const ModelOptions& options);
 
 /// Validates every point of a grid; throws UsageError naming the first invalid one.
-void validate_all(const std::vector<Params>& points);
+void validate_all(const std::vector<Params>& points, Space space = Space::TwoD);
 
 /// Parses a sample count (>= 1); throws UsageError.
 std::int64_t to_samples(const std::string& text);

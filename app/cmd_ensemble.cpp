@@ -8,6 +8,7 @@
 #include "mpi_run.hpp"
 #include "output.hpp"
 #include "progress.hpp"
+#include "run3d.hpp"
 
 namespace funnel::cli {
 
@@ -30,15 +31,21 @@ struct EnsembleCommand {
   ModelOptions model;
   EnsembleText ens;
   bool per_sample = false;
+  std::string space = "2d";
+  bool dist_given = false;
   std::string format = "json";
   std::string out = "-";
   std::string command_line;
 
   void run() const {
-    const Params params = to_params(model);
+    const Space sp = to_space(space);
+    const Params params = to_params(model, sp);
     EnsembleOptions options = to_ensemble_options(ens);
     options.keep_samples = per_sample;
     const Format fmt = to_format(format);
+    if (sp == Space::ThreeD) {
+      return write_ensemble_3d(params, to_ensemble3_options(options, dist_given), per_sample, fmt, out, command_line);
+    }
     if (fmt == Format::Csv && per_sample && options.wear_bins > 0) {
       throw UsageError("invalid --per-sample with --wear-bins and --format csv: the CSV holds either the samples or "
                        "the wear table; use --format json for both");
@@ -105,13 +112,17 @@ void add_ensemble_command(CLI::App& app, const std::string& command_line) {
   auto cmd = std::make_shared<EnsembleCommand>();
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand("ensemble", "Statistics of the observables over N release positions.");
-  add_model_options(*sub, cmd->model, false);
+  add_model_options(*sub, cmd->model, false, Space::ThreeD);
+  add_space_option(*sub, cmd->space);
   add_geometry_option(*sub, cmd->model);
   add_ensemble_options(*sub, cmd->ens);
   sub->add_flag("--per-sample", cmd->per_sample,
                 "also output every trajectory (JSON key 'per_sample'; with csv, one row per sample instead of the summary)");
   add_output_options(*sub, cmd->format, cmd->out);
-  sub->callback([cmd] { cmd->run(); });
+  sub->callback([cmd, sub] {
+    cmd->dist_given = sub->count("--release-dist") > 0;
+    cmd->run();
+  });
 }
 
 }  // namespace funnel::cli

@@ -20,6 +20,8 @@
 #include "funnel/version.hpp"
 #include "mpi_run.hpp"
 #include "output.hpp"
+#include "output3d.hpp"
+#include "run3d.hpp"
 #include "progress.hpp"
 #include "sweep_config.hpp"
 
@@ -31,6 +33,9 @@ namespace {
 /// (theta = 60, e = 0.99, mu = 1; docs/performance.md) runs 223 000 trajectories per second on
 /// one thread, 4.5 us each, rounded up. Long-lived trajectories (e near 1, mu = 0) cost more.
 constexpr double seconds_per_trajectory = 5e-6;
+/// The same in 3D: the 3D reference case (theta = 60, sigma = 0.03; docs/performance.md) runs
+/// about 1000 trajectories per second on one thread, 1 ms each.
+constexpr double seconds_per_trajectory_3d = 1e-3;
 /// A sweep with more points, or a longer estimate, runs only with --yes.
 constexpr double max_points_unasked = 1e6;
 constexpr double max_seconds_unasked = 3600.0;
@@ -139,6 +144,7 @@ struct SweepCommand {
   bool resume = false;
   bool overwrite = false;
   bool yes = false;
+  std::string space = "2d";
   std::string command_line;
 
   /// Refuses, without --yes, a grid over 10^6 points or an estimated run time over an hour.
@@ -151,13 +157,16 @@ struct SweepCommand {
     }
     const int threads = resolve_threads(options.threads);
     const double trajectories = points * static_cast<double>(options.samples);
-    const double seconds = trajectories * seconds_per_trajectory / threads;
+    const bool three_d = to_space(space) == Space::ThreeD;
+    const double seconds = trajectories * (three_d ? seconds_per_trajectory_3d : seconds_per_trajectory) / threads;
     if (yes || (points <= max_points_unasked && seconds <= max_seconds_unasked)) return;
     throw UsageError("this sweep needs --yes: " + count_text(points) + " points" +
                      (dims.empty() ? "" : " (" + dims + ")") + " x " + std::to_string(options.samples) + " samples = " +
                      count_text(trajectories) + " trajectories, estimated " + duration_text(seconds) + " on " +
                      std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
-                     " (at 5 us per trajectory and thread; more when e is near 1 or mu = 0). Over 10^6 points or "
+                     (three_d ? " (at 1 ms per 3D trajectory and thread; more with larger sideways velocities). "
+                              : " (at 5 us per trajectory and thread; more when e is near 1 or mu = 0). ") +
+                     "Over 10^6 points or "
                      "an hour, add --yes to run it, or use a coarser grid or fewer samples");
   }
 
@@ -172,22 +181,27 @@ struct SweepCommand {
       if (file.release_dist && !dist_given) merged_ens.release_dist = *file.release_dist;
     }
     if (resume && overwrite) throw UsageError("invalid options: --resume and --overwrite exclude each other");
+    const Space sp = to_space(space);
     const std::vector<Axis> axes = to_axes(merged);
     const EnsembleOptions options = to_ensemble_options(merged_ens);
+    const Ensemble3Options options3 =
+        sp == Space::ThreeD ? to_ensemble3_options(options, dist_given) : Ensemble3Options{};
+    const ReleaseDist dist = sp == Space::ThreeD ? options3.dist : options.dist;
     check_size(axes, options);
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
-    validate_all(points);
+    validate_all(points, sp);
     const OutputTarget target = resolve_output(out);
 
-    std::vector<std::string> cols = param_columns();
+    std::vector<std::string> cols = param_columns(sp);
     cols.push_back("release_dist");
-    for (const auto& c : ensemble_columns()) cols.push_back(c);
+    for (const auto& c : sp == Space::ThreeD ? ensemble_columns_3d() : ensemble_columns()) cols.push_back(c);
     const std::string header = csv_line(cols);
     // What the rows depend on: a partial file is continued only if this is the same.
     nlohmann::ordered_json spec;
     spec["version"] = version();
+    if (sp == Space::ThreeD) spec["space"] = "3d";
     spec["samples"] = options.samples;
-    spec["release_dist"] = to_string(options.dist);
+    spec["release_dist"] = to_string(dist);
     spec["seed"] = options.seed;
     spec["release"] = options.release_mean;
     spec["release_sd"] = options.release_sd;
@@ -247,13 +261,12 @@ struct SweepCommand {
       }
       int append_error = 0;
       ProgressBar bar("funnel sweep", true);
-      distributed_sweep(
-          todo, options, [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); },
-          [&](std::size_t k, const EnsembleResult& r) {
+      // One finished point: its row (the statistics' part from 2D or 3D) is kept and appended.
+      auto point_done = [&](std::size_t k, const std::vector<std::string>& stats) {
             const std::size_t i = todo_index[k];
-            std::vector<std::string> row = param_row(points[i]);
-            row.emplace_back(to_string(options.dist));
-            for (const auto& v : ensemble_row(r)) row.push_back(v);
+            std::vector<std::string> row = param_row(points[i], sp);
+            row.emplace_back(to_string(dist));
+            for (const auto& v : stats) row.push_back(v);
             done[i] = csv_line(row);
             if (f != nullptr) {
               const std::string line = std::to_string(i) + "," + done[i];
@@ -262,7 +275,15 @@ struct SweepCommand {
               }
             }
             ++points_saved;
-          });
+          };
+      const auto progress = [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); };
+      if (sp == Space::ThreeD) {
+        run_sweep_3d(todo, options3, progress,
+                     [&](std::size_t k, const Ensemble3Result& r) { point_done(k, ensemble_row(r)); });
+      } else {
+        distributed_sweep(todo, options, progress,
+                          [&](std::size_t k, const EnsembleResult& r) { point_done(k, ensemble_row(r)); });
+      }
       bar.finish(std::to_string(todo.size()) + " of " + total + " points computed");
       if (f != nullptr) std::fclose(f);
       if (append_error != 0) {
@@ -328,7 +349,8 @@ void add_sweep_command(CLI::App& app, const std::string& command_line) {
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand(
       "sweep", "Run one ensemble per point of a parameter grid (Cartesian product of lists/ranges) to CSV.");
-  add_model_options(*sub, cmd->model, true);
+  add_model_options(*sub, cmd->model, true, Space::ThreeD);
+  add_space_option(*sub, cmd->space);
   add_geometry_option(*sub, cmd->model);
   add_ensemble_options(*sub, cmd->ens, true, false);
   sub->add_option("--config", cmd->config,

@@ -6,6 +6,7 @@
 #include "funnel/engine.hpp"
 #include "funnel/geometry.hpp"
 #include "output.hpp"
+#include "run3d.hpp"
 
 namespace funnel::cli {
 
@@ -16,15 +17,23 @@ struct TrajectoryCommand {
   std::string release;
   bool events = false;
   std::string wear_bins = "0";
+  std::string space = "2d";
   std::string format = "json";
   std::string out = "-";
   std::string command_line;
 
   void run() const {
-    const Params params = to_params(model);
+    const Space sp = to_space(space);
+    const Params params = to_params(model, sp);
     const auto x = parse_number(release);
     if (!x || !(*x > -1.0 && *x < 1.0)) {
       throw UsageError("invalid release = '" + release + "': valid range is -1 < release < 1 (x0/L)");
+    }
+    if (sp == Space::ThreeD) {
+      if (wear_bins != "0") {
+        throw UsageError("invalid wear-bins = " + wear_bins + ": valid range is 0 in 3d (the wear record is 2D only)");
+      }
+      return write_trajectory_3d(params, *x, events, to_format(format), out, command_line);
     }
     EnsembleText wear_text;
     wear_text.wear_bins = wear_bins;
@@ -83,9 +92,10 @@ void add_trajectory_command(CLI::App& app, const std::string& command_line) {
   auto cmd = std::make_shared<TrajectoryCommand>();
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand("trajectory", "Simulate one trajectory released at x0 = X*L (at rest unless --release-u/-v/-spin say otherwise).");
-  add_model_options(*sub, cmd->model, false);
+  add_model_options(*sub, cmd->model, false, Space::ThreeD);
+  add_space_option(*sub, cmd->space);
   add_geometry_option(*sub, cmd->model);
-  sub->add_option("--release", cmd->release, "release position X = x0/L; -1 < X < 1")->required()->type_name("X");
+  sub->add_option("--release", cmd->release, "release position X = x0/L; -1 < X < 1 (3d: at z = 0)")->required()->type_name("X");
   sub->add_flag("--events", cmd->events, "include the event log (JSON key 'events'; with csv, one row per event)");
   sub->add_option("--wear-bins", cmd->wear_bins,
                   "record where the walls wear in N equal bins of distance along each wall from its lower edge up to "

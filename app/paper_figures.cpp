@@ -14,6 +14,7 @@
 #include "funnel/orbit.hpp"
 #include "output.hpp"
 #include "mpi_run.hpp"
+#include "paper_cone3d.hpp"
 #include "paper_designer.hpp"
 #include "paper_orbits.hpp"
 #include "paper_util.hpp"
@@ -419,6 +420,7 @@ FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int th
   if (fig.kind == "retrace_orbits") return retrace_orbits(fig, threads);
   if (fig.kind == "retrace_windows") return retrace_windows(fig, cache, threads);
   if (fig.kind == "wear_profiles") return wear_profiles(fig, threads, progress);
+  if (fig.kind == "cone_3d_sweep") return cone_3d_sweep(fig, threads, progress);
   throw UsageError("invalid figure definition '" + fig.source + "': unknown kind '" + fig.kind + "'");
 }
 

@@ -10,7 +10,7 @@ namespace funnel {
 
 namespace {
 
-constexpr std::array<ObservableInfo, observable_count> table{{
+constexpr std::array<ObservableInfo, observable_count_3d> table{{
     {Observable::Duration, "duration", "time until the exit (or the end of the run)", "sqrt(H/g)", false, false, true, false},
     {Observable::Impulse, "impulse", "total impulse on the walls, sum |J| + integral of |F| dt", "m sqrt(gH)", false, false, true, false},
     {Observable::NormalImpulse, "normal_impulse", "normal impulse on the walls", "m sqrt(gH)", false, false, true, false},
@@ -27,11 +27,20 @@ constexpr std::array<ObservableInfo, observable_count> table{{
     {Observable::ExitSpeed, "exit_speed", "speed at the exit", "sqrt(gH)", false, true, true, false},
     {Observable::ExitAngle, "exit_angle", "direction at the exit from the downward vertical, positive towards +x", "degrees", false, true, true, true},
     {Observable::ExitSpin, "exit_spin", "spin at the exit, counter-clockwise", "sqrt(g/H)", false, true, true, true},
+    // 3D only. In 3D exit_speed is |v|, exit_angle the angle between v and the downward vertical
+    // (>= 0) and exit_spin the spin about z.
+    {Observable::ExitZ, "exit_z", "centre's z at the exit level (3D)", "H", false, true, true, false},
+    {Observable::ExitW, "exit_w", "velocity along z at the exit (3D)", "sqrt(gH)", false, true, true, false},
+    {Observable::ExitSpinX, "exit_spin_x", "spin about x at the exit (3D)", "sqrt(g/H)", false, true, true, false},
+    {Observable::ExitSpinY, "exit_spin_y", "spin about the vertical axis at the exit (3D)", "sqrt(g/H)", false, true, true, false},
+    {Observable::Orbits, "orbits", "turns about the vertical axis, |net azimuth swept| / 2 pi (3D)", "", false, false, true, false},
 }};
 
 }  // namespace
 
-std::span<const ObservableInfo> observables() { return table; }
+std::span<const ObservableInfo> observables() { return std::span(table).first(observable_count); }
+
+std::span<const ObservableInfo> observables_3d() { return table; }
 
 const ObservableInfo& info(Observable o) { return table[static_cast<std::size_t>(o)]; }
 
@@ -63,6 +72,7 @@ double value(const Trajectory& t, Observable o) {
     case Observable::ExitSpeed: return exited ? std::hypot(x.v.x, x.v.y) : nan;
     case Observable::ExitAngle: return exited ? std::atan2(x.v.x, -x.v.y) * (180.0 / std::numbers::pi) : nan;
     case Observable::ExitSpin: return exited ? x.omega : nan;
+    default: return nan;  // 3D only
   }
   return nan;
 }

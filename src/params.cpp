@@ -17,7 +17,10 @@ namespace {
   [](const Params& p) { return static_cast<double>(p.field); },          \
   [](Params& p, double v) { p.field = static_cast<decltype(p.field)>(v); }
 
-const std::array<ParameterInfo, 18> table{{
+// The 2D parameters first; parameters() is their prefix.
+constexpr std::size_t parameter_count_2d = 18;
+
+const std::array<ParameterInfo, 21> table{{
     {"theta", "wall angle to the horizontal", "degrees", "0 < theta < 90 (degrees)", "60", false, true,
      FUNNEL_FIELD(theta)},
     {"e", "normal restitution", "", "0 <= e <= 1", "0.99", false, true, FUNNEL_FIELD(e)},
@@ -53,6 +56,12 @@ const std::array<ParameterInfo, 18> table{{
      false, false, FUNNEL_FIELD(p_c)},
     {"eps-rest", "closed funnel: energy above the vertex below which the particle rests", "mgH",
      "eps-rest > 0 (finite)", "1e-12", false, false, FUNNEL_FIELD(eps_rest)},
+    {"release-w", "3D: initial velocity along z, out of the release's meridian plane", "sqrt(gH)",
+     "finite, |release-w| <= 1e6; 0 in 2d", "0", false, true, FUNNEL_FIELD(release_w)},
+    {"release-spin-x", "3D: initial spin about x", "sqrt(g/H)", "finite, |release-spin-x| <= 1e8; 0 in 2d", "0",
+     false, true, FUNNEL_FIELD(release_spin_x)},
+    {"release-spin-y", "3D: initial spin about the vertical axis", "sqrt(g/H)",
+     "finite, |release-spin-y| <= 1e8; 0 in 2d", "0", false, true, FUNNEL_FIELD(release_spin_y)},
 }};
 
 #undef FUNNEL_FIELD
@@ -83,7 +92,21 @@ std::string ParameterInfo::key() const {
   return k;
 }
 
-std::span<const ParameterInfo> parameters() { return table; }
+std::span<const ParameterInfo> parameters() { return std::span(table).first(parameter_count_2d); }
+
+std::span<const ParameterInfo> parameters(Space space) {
+  return space == Space::TwoD ? parameters() : std::span<const ParameterInfo>(table);
+}
+
+bool only_3d(const ParameterInfo& parameter) { return &parameter >= table.data() + parameter_count_2d; }
+
+std::string_view to_string(Space space) { return space == Space::TwoD ? "2d" : "3d"; }
+
+std::optional<Space> parse_space(std::string_view text) {
+  if (text == "2d") return Space::TwoD;
+  if (text == "3d") return Space::ThreeD;
+  return std::nullopt;
+}
 
 const ParameterInfo* find_parameter(std::string_view name) {
   for (const ParameterInfo& p : table) {
@@ -211,7 +234,33 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(std::fabs(params.release_spin) <= 1e8)) return error("release-spin", params.release_spin);
   if (!(params.p_c > 0.0 && std::isfinite(params.p_c))) return error("p-c", params.p_c);
   if (!(params.eps_rest > 0.0 && std::isfinite(params.eps_rest))) return error("eps-rest", params.eps_rest);
+  if (!(std::fabs(params.release_w) <= 1e6)) return error("release-w", params.release_w);
+  if (!(std::fabs(params.release_spin_x) <= 1e8)) return error("release-spin-x", params.release_spin_x);
+  if (!(std::fabs(params.release_spin_y) <= 1e8)) return error("release-spin-y", params.release_spin_y);
   if (params.profile) return validate_profile(*params.profile, params);
+  return std::nullopt;
+}
+
+std::optional<ParamError> validate(const Params& params, Space space) {
+  if (auto err = validate(params)) return err;
+  if (space == Space::ThreeD) {
+    // The 3D funnel is the cone of theta and gap: the 2D shapes are 2D only.
+    if (params.profile) return ParamError{"geometry", params.profile->source, "a 2D funnel only (--space 2d)"};
+    for (const char* name : {"theta-left", "theta-right", "spout-length"}) {
+      const ParameterInfo* info = find_parameter(name);
+      const double v = info->get(params);
+      const double plain = std::string_view(name) == "spout-length" ? 0.0 : params.theta;
+      if (v != plain) return ParamError{name, format_number(v), std::string(name) + " = its 2D default in 3d (2D only)"};
+    }
+    return std::nullopt;
+  }
+  for (std::size_t i = parameter_count_2d; i < table.size(); ++i) {
+    const ParameterInfo& p = table[i];
+    if (p.get(params) != 0.0) {
+      return ParamError{std::string(p.name), format_number(p.get(params)),
+                        "0 in 2d: " + std::string(p.name) + " is a 3D option (use --space 3d)"};
+    }
+  }
   return std::nullopt;
 }
 

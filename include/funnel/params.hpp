@@ -47,7 +47,19 @@ struct Params {
   double right_angle() const { return is_unset(theta_right) ? theta : theta_right; }
   /// True for the paper's symmetric V (no per-side angle, no spout, no profile).
   bool plain_v() const { return left_angle() == theta && right_angle() == theta && spout_length == 0.0 && !profile; }
+  // 3D only (the axisymmetric funnel); 0 in 2D.
+  double release_w = 0.0;       ///< initial velocity along z, out of the release's meridian plane, units sqrt(gH), finite
+  double release_spin_x = 0.0;  ///< initial spin about x, units sqrt(g/H), finite
+  double release_spin_y = 0.0;  ///< initial spin about the vertical axis, units sqrt(g/H), finite
 };
+
+/// The space of a simulation: the paper's 2D funnel, or the funnel revolved about its axis in 3D.
+enum class Space { TwoD, ThreeD };
+
+/// "2d" or "3d".
+std::string_view to_string(Space space);
+/// Parses "2d" or "3d"; nullopt otherwise.
+std::optional<Space> parse_space(std::string_view text);
 
 /// The documented defaults (docs/model.md §1).
 Params default_params();
@@ -69,8 +81,16 @@ struct ParameterInfo {
   std::string key() const;
 };
 
-/// Every model parameter, in the order of the outputs' columns and of a sweep grid's axes.
+/// Every model parameter of the 2D funnel, in the order of the outputs' columns and of a sweep
+/// grid's axes.
 std::span<const ParameterInfo> parameters();
+
+/// Every model parameter of the 3D funnel: those of parameters(), then release-w,
+/// release-spin-x and release-spin-y (release-spin is the spin about z).
+std::span<const ParameterInfo> parameters(Space space);
+
+/// True for a parameter that only the 3D funnel has (release-w, release-spin-x, release-spin-y).
+bool only_3d(const ParameterInfo& parameter);
 
 /// The parameter with this command-line name or output key ("t-max" or "t_max"); null if none.
 const ParameterInfo* find_parameter(std::string_view name);
@@ -86,6 +106,9 @@ struct ParamError {
 
 /// Checks every field (NaN and infinities included); the first invalid one, if any.
 std::optional<ParamError> validate(const Params& params);
+
+/// validate(params), then the space: in 2D every 3D-only parameter must be 0.
+std::optional<ParamError> validate(const Params& params, Space space);
 
 /// Valid-range text of a parameter by its name (e.g. "theta"), for help texts; empty if unknown.
 std::string_view valid_range(std::string_view name);

@@ -38,8 +38,10 @@ except ImportError as _error:
 from ._api import (
     DEFAULT_SAMPLES,
     MODEL_PARAMETERS,
+    MODEL_PARAMETERS_3D_ONLY,
     OBSERVABLE_TABLE,
     OBSERVABLES,
+    OBSERVABLES_3D,
     PARAMETERS,
     STATISTICS,
     closed,
@@ -60,8 +62,10 @@ __version__ = "0.1.0"
 __all__ = [
     "DEFAULT_SAMPLES",
     "MODEL_PARAMETERS",
+    "MODEL_PARAMETERS_3D_ONLY",
     "OBSERVABLE_TABLE",
     "OBSERVABLES",
+    "OBSERVABLES_3D",
     "PARAMETERS",
     "STATISTICS",
     "closed",

@@ -35,6 +35,15 @@ MODEL_PARAMETERS = tuple(p["key"] for p in PARAMETERS if p["option"]) or (
     "theta", "e", "mu", "beta0", "radius", "gap", "inertia", "t_max", "max_collisions", "release_height",
     "release_u", "release_v", "release_spin")
 
+#: The model keyword arguments of the 3D funnel only (space="3d"): release_w (velocity along z),
+#: release_spin_x, release_spin_y (release_spin is the spin about z).
+MODEL_PARAMETERS_3D_ONLY = tuple(_funnel.parameters_3d()) if _funnel is not None else (
+    "release_w", "release_spin_x", "release_spin_y")
+
+#: The observables of a 3D trajectory: those of 2D, then exit_z, exit_w, exit_spin_x,
+#: exit_spin_y and orbits (turns about the axis).
+OBSERVABLES_3D = tuple(_funnel.observables_3d()) if _funnel is not None else ()
+
 #: Observables summarised by ensembles and sweeps, in column order (the exit ones over the
 #: exited samples).
 OBSERVABLES = tuple(o["name"] for o in OBSERVABLE_TABLE if o["summarized"]) or (
@@ -62,11 +71,22 @@ def _core():
     return _funnel
 
 
-def _check_names(function, model):
+def _check_names(function, model, space="2d"):
+    names = MODEL_PARAMETERS + (MODEL_PARAMETERS_3D_ONLY if space == "3d" else ())
     for name in model:
-        if name not in MODEL_PARAMETERS:
+        if name in MODEL_PARAMETERS_3D_ONLY and space != "3d":
+            raise ValueError(f"invalid {name.replace('_', '-')} = {model[name]!r}: {name} is a 3D option; "
+                             "use space=\"3d\"")
+        if name not in names:
             raise TypeError(f"{function}() got an unexpected keyword argument '{name}' "
-                            f"(model parameters: {', '.join(MODEL_PARAMETERS)})")
+                            f"(model parameters: {', '.join(names)})")
+
+
+def _space(value):
+    """The space, "2d" or "3d"."""
+    if value not in ("2d", "3d"):
+        raise ValueError(f"invalid space = {value!r}: valid values are '2d', '3d'")
+    return value
 
 
 def _scalar(name, value):
@@ -76,8 +96,8 @@ def _scalar(name, value):
     return float(value)
 
 
-def _model(function, model):
-    _check_names(function, model)
+def _model(function, model, space="2d"):
+    _check_names(function, model, space)
     return {name: _scalar(name, value) for name, value in model.items()}
 
 
@@ -137,8 +157,18 @@ def _text_columns(columns, names):
     return columns
 
 
-def simulate(release, events=False, wear_bins=0, geometry=None, **model):
+def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **model):
     """Simulate one trajectory released at x0 = release * L.
+
+    With ``space="3d"`` the funnel is revolved about its vertical axis (a cone with a circular
+    outlet of diameter ``gap``; docs/model.md §9): the ball starts at (x0, y0, 0) and may
+    also get ``release_w`` (velocity along z), ``release_spin_x`` and ``release_spin_y``
+    (``release_spin`` is the spin about z). The result has the 2D keys (exit_speed |v|,
+    exit_angle from the downward vertical >= 0, exit_spin about z) plus ``z0``, ``w0``,
+    ``omega0`` (a 3-vector), ``exit_z``, ``exit_w``, ``exit_spin_x``, ``exit_spin_y``,
+    ``orbits`` (turns about the axis, >= 0), ``orbits_signed`` and ``periodic``; its events
+    add z, w_before/after and omega_x/y/z_before/after (slip_before and j_t are magnitudes).
+    ``wear_bins`` is 2D only.
 
     Parameters
     ----------
@@ -190,6 +220,15 @@ def simulate(release, events=False, wear_bins=0, geometry=None, **model):
     >>> r["status"], r["duration"], r["exit_speed"]
     """
     core = _core()
+    if _space(space) == "3d":
+        if geometry is not None:
+            raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
+        if _wear_bins(wear_bins) != 0:
+            raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
+        result = core.simulate_3d(_model("simulate", model, "3d"), _scalar("release", release), bool(events))
+        if events:
+            _text_columns(result["events"], ("kind", "regime"))
+        return result
     result = core.simulate(_model("simulate", model), _scalar("release", release), bool(events),
                            _wear_bins(wear_bins), _geometry(geometry))
     if events:
@@ -225,16 +264,22 @@ def _progress_callback(progress, what):
     return update
 
 
-def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample=False, seed=1, release=0.0,
-             release_sd=0.1, velocity_sd=0.0, wear_bins=0, progress=False, geometry=None, **model):
+def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=False, seed=1, release=0.0,
+             release_sd=0.1, velocity_sd=0.0, wear_bins=0, progress=False, space="2d", geometry=None, **model):
     """Statistics of the observables over ``samples`` releases, like ``funnel ensemble``.
+
+    With ``space="3d"`` (the funnel revolved about its axis, see :func:`simulate`) the
+    releases are "disk" (the default) or "line" at z = 0, ``velocity_sd`` adds random
+    horizontal velocities (u, w), and the result holds the statistics of
+    :data:`OBSERVABLES_3D` (orbits included) and ``periodic``; uniform, gaussian, wear_bins
+    and progress are 2D only.
 
     Parameters
     ----------
     samples : int
         Number of releases N, 1 <= N <= 10^9.
-    release_dist : {"line", "disk", "uniform", "gaussian"}
-        "line": the 2D funnel, x0_k = L(2k + 1 - N)/N (the paper's); "disk": the axisymmetric cone
+    release_dist : {"line", "disk", "uniform", "gaussian"} or None
+        None: "line" in 2D, "disk" in 3D. "line": the 2D funnel, x0_k = L(2k + 1 - N)/N (the paper's); "disk": the axisymmetric cone
         (paper Sec. V), uniform over the disk of radius L; "uniform": x0/L uniform random in
         (-1, 1); "gaussian": x0/L normal with mean ``release`` and standard deviation
         ``release_sd``, truncated to (-1, 1).
@@ -279,6 +324,18 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, per_sample
     >>> r["duration"]["mean"], r["exit_speed"]["mean"], r["status_counts"]["exited"]
     """
     core = _core()
+    if _space(space) == "3d":
+        if geometry is not None:
+            raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
+        if _wear_bins(wear_bins) != 0:
+            raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
+        result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples),
+                                  "disk" if release_dist is None else str(release_dist), _count("threads", threads),
+                                  bool(per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd))
+        if per_sample:
+            _text_columns(result["per_sample"], ("status",))
+        return result
+    release_dist = "line" if release_dist is None else release_dist
     result = core.ensemble(_model("ensemble", model), _count("samples", samples), str(release_dist),
                            _count("threads", threads), bool(per_sample), _seed(seed),
                            _scalar("release", release), _scalar("release_sd", release_sd),
@@ -303,9 +360,13 @@ def _axis_values(name, value):
     return [_scalar(name, v) for v in array.tolist()]
 
 
-def sweep(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, seed=1, release=0.0, release_sd=0.1,
-          velocity_sd=0.0, progress=False, geometry=None, **model):
+def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release=0.0, release_sd=0.1,
+          velocity_sd=0.0, progress=False, space="2d", geometry=None, **model):
     """One ensemble per point of a parameter grid, like ``funnel sweep``.
+
+    With ``space="3d"`` every point is a 3D ensemble as in :func:`ensemble` (release_dist
+    "disk" by default); the columns are the 3D parameters and the statistics of
+    :data:`OBSERVABLES_3D`.
 
     Each model keyword takes a number, a sequence or 1-D array of numbers, or a text
     "a,b,c" or "start:stop:step" (inclusive, as on the command line). The grid is the
@@ -328,6 +389,15 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, seed=1, relea
     >>> s["theta"], s["duration_mean"]
     """
     core = _core()
+    if _space(space) == "3d":
+        if geometry is not None:
+            raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
+        _check_names("sweep", model, "3d")
+        axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
+                if name in model]
+        return core.sweep_3d(axes, _count("samples", samples), "disk" if release_dist is None else str(release_dist),
+                             _count("threads", threads), _seed(seed), _scalar("velocity_sd", velocity_sd))
+    release_dist = "line" if release_dist is None else release_dist
     _check_names("sweep", model)
     axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS if name in model]
     result = core.sweep(axes, _count("samples", samples), str(release_dist), _count("threads", threads),

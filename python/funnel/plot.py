@@ -10,7 +10,8 @@ Figure kinds (the JSON's "kind"): theta_sweep (Figs. 2-6, 13), release_scan (Fig
 trajectories (Fig. 8), eigenvalues (Fig. 10), closed_final (Fig. 11), periodic_fraction (Fig. 12);
 and, drawn by :mod:`funnel.plot_orbits`, funnel_sketch (Fig. 1), period2_orbits (Fig. 9),
 retrace_orbits (Fig. 14), retrace_windows (Fig. 2 explained, beyond the paper); and, drawn by
-:mod:`funnel.plot_designer`, wear_profiles (where the walls wear, beyond the paper).
+:mod:`funnel.plot_designer`, wear_profiles (where the walls wear, beyond the paper) and
+cone_3d_sweep (the cone in 3D with sideways release velocities, beyond the paper).
 
 ``python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png`` draws one simulated
 trajectory instead (:mod:`funnel.trajectory`).
@@ -35,11 +36,16 @@ OBSERVABLE_LABELS = {
     "collisions": ("average number of collisions", None),
     "edge_collisions": ("average number of edge collisions", None),
     "contact_time": ("average contact time", r"$\sqrt{H/g}$"),
+    "duration_exited": ("average duration (balls that leave)", r"$\sqrt{H/g}$"),
+    "impulse_exited": ("average impulse (balls that leave)", r"$m\sqrt{gH}$"),
+    "energy_loss_exited": ("average energy loss (balls that leave)", r"$mgH$"),
+    "trapped_fraction": ("fraction trapped (rolling for ever)", None),
+    "orbits": ("average turns about the axis", None),
 }
 
 #: Symbols of the parameters that distinguish curves.
 SYMBOLS = {"theta": r"$\theta$", "e": r"$e$", "mu": r"$\mu$", "beta0": r"$\beta_0$", "radius": r"$a$",
-           "gap": r"$d$", "inertia": r"$\kappa$", "t_max": r"$t_\mathrm{max}$"}
+           "gap": r"$d$", "inertia": r"$\kappa$", "t_max": r"$t_\mathrm{max}$", "velocity_sd": r"$\sigma$"}
 
 #: Curve colours (Okabe-Ito, readable in gray and by colour-blind readers); black first.
 COLORS = ("#000000", "#E69F00", "#0072B2", "#009E73", "#D55E00", "#CC79A7", "#56B4E9", "#F0E442")
@@ -85,7 +91,7 @@ TEXT_COLUMNS = frozenset({"panel", "kind", "wall", "regime", "status", "state", 
 ORBIT_KINDS = ("funnel_sketch", "period2_orbits", "retrace_orbits", "retrace_windows")
 
 #: Kinds drawn by funnel.plot_designer (imported when first needed).
-DESIGNER_KINDS = ("wear_profiles",)
+DESIGNER_KINDS = ("wear_profiles", "cone_3d_sweep")
 
 KINDS = ("theta_sweep", "release_scan", "trajectories", "eigenvalues", "closed_final", "periodic_fraction")
 

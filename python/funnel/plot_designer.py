@@ -1,6 +1,7 @@
 """Plots of the figures beyond the paper made for funnel designers (docs/python.md).
 
-Kind (the JSON's "kind"): wear_profiles (where the walls wear). :mod:`funnel.plot` registers it
+Kinds (the JSON's "kind"): wear_profiles (where the walls wear) and cone_3d_sweep (the cone in
+3D with random sideways release velocities, drawn as a theta sweep with one curve per σ). :mod:`funnel.plot` registers it
 in its ``PLOTTERS`` and draws it in its style; matplotlib is imported only when drawing.
 """
 
@@ -46,4 +47,4 @@ def plot_wear_profiles(meta, columns):
 
 
 #: Plot function of each kind of this module.
-PLOTTERS = {"wear_profiles": plot_wear_profiles}
+PLOTTERS = {"wear_profiles": plot_wear_profiles, "cone_3d_sweep": base.plot_theta_sweep}

@@ -137,7 +137,7 @@ Params make_params(const std::map<std::string, double>& model, const py::object&
     if (info == nullptr || !info->option) throw py::type_error("unknown model parameter '" + key + "'");
     if (const auto err = funnel::set_parameter_checked(p, info->name, value)) throw py::value_error(err->message());
   }
-  if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
+  if (const auto err = funnel::validate(p, funnel::Space::TwoD)) throw py::value_error(err->message());
   return p;
 }
 
@@ -620,6 +620,7 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
 }  // namespace
 
 void bind_retrace(py::module_& m);  // bind_retrace.cpp
+void bind_3d(py::module_& m);       // bind_3d.cpp
 
 PYBIND11_MODULE(_funnel, m) {
   m.doc() = "Compiled core of funnel (pybind11). Use the documented wrappers in the `funnel` package.";
@@ -655,4 +656,5 @@ PYBIND11_MODULE(_funnel, m) {
   m.def("closed", &closed, py::arg("model"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
         py::arg("max_time"), py::arg("max_coll"), py::arg("window"), py::arg("slip_tol"), py::arg("height_tol"));
   bind_retrace(m);
+  bind_3d(m);
 }

@@ -70,3 +70,12 @@ def test_exit_and_wear_example(tmp_path):
 def funnel_exit_speed(theta):
     import funnel
     return funnel.ensemble(theta=theta, samples=400, wear_bins=20)["exit_speed"]["mean"]
+
+
+def test_cone_3d_example(tmp_path):
+    out = _run("cone_3d.py", tmp_path)
+    assert "one ball: trapped at t = 100000 sqrt(H/g) after 1845 collisions" in out
+    assert "(it rolls round the outlet for ever)" in out
+    assert "sigma = 0.0: mean duration of the balls that leave, 44 deg: 18.6 (0.0% trapped), 46 deg: 62.2" in out
+    assert "sigma = 0.03:" in out
+    assert (tmp_path / "cone_3d.png").read_bytes()[:8] == PNG_MAGIC

@@ -1,0 +1,67 @@
+"""space="3d": the axisymmetric funnel from Python, against the command line and the 2D engine."""
+
+import math
+
+import numpy as np
+import pytest
+
+import funnel
+
+
+def test_simulate_3d_matches_cli_bit_for_bit(cli):
+    model = dict(theta=55.0, release_w=0.07, release_spin_x=3.0, release_spin=-2.0)
+    py = funnel.simulate(0.4, events=True, space="3d", **model)
+    out = cli("trajectory", "--space", "3d", "--release", "0.4", "--events", "--theta", "55", "--release-w", "0.07",
+              "--release-spin-x", "3", "--release-spin-z", "-2")
+    for key in ("duration", "impulse", "energy_loss", "exit_z", "exit_w", "orbits", "orbits_signed"):
+        assert py[key] == out[key], key
+    assert py["collisions"] == out["collisions"]
+    assert py["params"]["release_w"] == 0.07
+    events = py["events"]
+    assert len(events["time"]) == len(out["events"])
+    for key in ("z", "w_after", "omega_x_after", "omega_y_after", "omega_z_after"):
+        assert np.array_equal(events[key], [e[key] for e in out["events"]]), key
+    assert py["orbits"] > 0.0
+
+
+def test_in_plane_release_gives_the_2d_trajectory():
+    for theta in (40.0, 60.0):
+        a = funnel.simulate(0.35, theta=theta, release_spin=1.5)
+        b = funnel.simulate(0.35, theta=theta, release_spin=1.5, space="3d")
+        assert a["status"] == b["status"]
+        assert a["collisions"] == b["collisions"]
+        for key in ("duration", "impulse", "energy_loss", "exit_u", "exit_v", "exit_spin"):
+            assert math.isclose(a[key], b[key], rel_tol=1e-12, abs_tol=1e-15), key
+        assert b["exit_z"] == 0.0 and b["orbits"] == 0.0
+
+
+def test_ensemble_3d_at_rest_is_the_paper_cone_and_seeded_velocities_repeat():
+    cone2d = funnel.ensemble(samples=64, release_dist="disk", theta=50)
+    cone3d = funnel.ensemble(samples=64, theta=50, space="3d")  # disk by default in 3D
+    assert cone3d["release_dist"] == "disk"
+    assert math.isclose(cone2d["duration"]["mean"], cone3d["duration"]["mean"], rel_tol=1e-12)
+    a = funnel.ensemble(samples=32, velocity_sd=0.03, seed=4, threads=2, space="3d", per_sample=True)
+    b = funnel.ensemble(samples=32, velocity_sd=0.03, seed=4, threads=1, space="3d")
+    assert a["duration"] == b["duration"] and a["orbits"] == b["orbits"]
+    assert a["per_sample"]["w0"].shape == (32,)
+    assert np.std(a["per_sample"]["w0"]) > 0.0
+
+
+def test_sweep_3d_has_the_3d_columns():
+    s = funnel.sweep(samples=16, theta=[45, 55], release_w=[0.0, 0.05], space="3d")
+    assert s["theta"].tolist() == [45, 45, 55, 55]
+    assert s["release_w"].tolist() == [0.0, 0.05, 0.0, 0.05]
+    assert "orbits_mean" in s and "exit_w_mean" in s
+
+
+def test_options_of_the_other_space_are_refused():
+    with pytest.raises(ValueError, match="release-w = 0.1.*3D"):
+        funnel.simulate(0.3, release_w=0.1)
+    with pytest.raises(ValueError, match="wear-bins"):
+        funnel.simulate(0.3, wear_bins=4, space="3d")
+    with pytest.raises(ValueError, match="release_dist = 'uniform'"):
+        funnel.ensemble(samples=8, release_dist="uniform", space="3d")
+    with pytest.raises(ValueError, match="space"):
+        funnel.simulate(0.3, space="4d")
+    with pytest.raises(ValueError, match="release-spin-x = nan"):
+        funnel.simulate(0.3, release_spin_x=float("nan"), space="3d")

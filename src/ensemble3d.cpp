@@ -1,0 +1,171 @@
+// Parallel 3D ensembles with a fixed reduction order (deterministic for any thread count).
+#include "funnel/ensemble3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "funnel/random.hpp"
+
+namespace funnel {
+
+namespace {
+
+/// Work units per ensemble, as in 2D: the partition depends on N only, never on the threads.
+constexpr std::int64_t max_chunks = 256;
+constexpr std::int64_t min_chunk = 16;
+
+struct BlockStats3 {
+  std::array<Accumulator, observable_count_3d> acc;
+  std::int64_t exited = 0, rest = 0, trapped = 0, periodic = 0, total_collisions = 0, ode_steps = 0;
+
+  void add(const Trajectory3& t) {
+    for (const ObservableInfo& o : observables_3d()) {
+      if (o.exited_only && t.status != Status::Exited) continue;
+      acc[static_cast<std::size_t>(o.id)].add(value(t, o.id));
+    }
+    exited += t.status == Status::Exited;
+    rest += t.status == Status::Rest;
+    trapped += t.status == Status::Trapped;
+    periodic += t.periodic;
+    total_collisions += t.collisions;
+    ode_steps += t.ode_steps;
+  }
+
+  void merge(const BlockStats3& o) {
+    for (std::size_t i = 0; i < acc.size(); ++i) acc[i].merge(o.acc[i]);
+    exited += o.exited;
+    rest += o.rest;
+    trapped += o.trapped;
+    periodic += o.periodic;
+    total_collisions += o.total_collisions;
+    ode_steps += o.ode_steps;
+  }
+
+  Ensemble3Result result(std::int64_t samples) const {
+    Ensemble3Result r;
+    r.samples = samples;
+    for (std::size_t i = 0; i < acc.size(); ++i) r.stats[i] = summarize(acc[i]);
+    r.exited = exited;
+    r.rest = rest;
+    r.trapped = trapped;
+    r.periodic = periodic;
+    r.total_collisions = total_collisions;
+    r.ode_steps = ode_steps;
+    return r;
+  }
+};
+
+}  // namespace
+
+double value(const Trajectory3& t, Observable o) {
+  const bool exited = t.status == Status::Exited;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const State3& x = t.exit_state;
+  switch (o) {
+    case Observable::Duration: return t.duration;
+    case Observable::Impulse: return t.impulse;
+    case Observable::NormalImpulse: return t.normal_impulse;
+    case Observable::EnergyLoss: return t.energy_loss;
+    case Observable::Collisions: return static_cast<double>(t.collisions);
+    case Observable::EdgeCollisions: return static_cast<double>(t.edge_collisions);
+    case Observable::FaceCollisions: return static_cast<double>(t.collisions - t.edge_collisions);
+    case Observable::Contacts: return static_cast<double>(t.contacts);
+    case Observable::EdgeContacts: return static_cast<double>(t.edge_contacts);
+    case Observable::ContactTime: return t.contact_time;
+    case Observable::ExitX: return exited ? x.r.x : nan;
+    case Observable::ExitU: return exited ? x.v.x : nan;
+    case Observable::ExitV: return exited ? x.v.y : nan;
+    case Observable::ExitSpeed: return exited ? std::sqrt(dot(x.v, x.v)) : nan;
+    case Observable::ExitAngle:
+      return exited ? std::atan2(std::sqrt(x.v.x * x.v.x + x.v.z * x.v.z), -x.v.y) * (180.0 / std::numbers::pi) : nan;
+    case Observable::ExitSpin: return exited ? x.omega.z : nan;
+    case Observable::ExitZ: return exited ? x.r.z : nan;
+    case Observable::ExitW: return exited ? x.v.z : nan;
+    case Observable::ExitSpinX: return exited ? x.omega.x : nan;
+    case Observable::ExitSpinY: return exited ? x.omega.y : nan;
+    case Observable::Orbits: return std::fabs(t.orbits);
+  }
+  return nan;
+}
+
+State3 ensemble_release_3d(const Params& params, const Cone& cone, const Ensemble3Options& options, std::int64_t k) {
+  State3 s = release_state_3d(params, cone, release_fraction(options.dist, k, options.samples));
+  if (options.velocity_sd > 0.0) {
+    const auto index = static_cast<std::uint64_t>(k);
+    s.v.x += options.velocity_sd * standard_normal(options.seed, release_velocity_u_stream, index);
+    s.v.z += options.velocity_sd * standard_normal(options.seed, release_velocity_w_stream, index);
+  }
+  return s;
+}
+
+std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const Ensemble3Options& options,
+                                          const Progress& progress, const PointDone3& point_done) {
+  return run_sweep_3d(points, std::vector<double>(points.size(), options.velocity_sd), options, progress, point_done);
+}
+
+std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, const std::vector<double>& velocity_sds,
+                                          const Ensemble3Options& options, const Progress& progress,
+                                          const PointDone3& point_done) {
+  const std::int64_t n = options.samples;
+  const std::int64_t blocks_per_point = std::min(max_chunks, (n + min_chunk - 1) / min_chunk);
+  const auto n_points = static_cast<std::int64_t>(points.size());
+  const std::int64_t n_tasks = n_points * blocks_per_point;
+  std::vector<Cone> cones;
+  cones.reserve(points.size());
+  for (const Params& p : points) cones.push_back(make_cone(p));
+  std::vector<Ensemble3Result> results(points.size());
+  if (options.keep_samples) {
+    for (auto& r : results) r.per_sample.resize(static_cast<std::size_t>(n));
+  }
+  std::vector<BlockStats3> blocks(static_cast<std::size_t>(n_tasks));
+  std::vector<std::int64_t> pending(points.size(), blocks_per_point);
+  std::int64_t finished = 0;
+
+#pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
+  for (std::int64_t task = 0; task < n_tasks; ++task) {
+    const std::int64_t point = task / blocks_per_point;
+    const std::int64_t chunk = task % blocks_per_point;
+    const std::int64_t first = chunk * n / blocks_per_point;
+    const std::int64_t last = (chunk + 1) * n / blocks_per_point;
+    const Params& params = points[static_cast<std::size_t>(point)];
+    const Cone& cone = cones[static_cast<std::size_t>(point)];
+    BlockStats3& stats = blocks[static_cast<std::size_t>(task)];
+    Ensemble3Options point_options = options;
+    point_options.velocity_sd = velocity_sds[static_cast<std::size_t>(point)];
+    for (std::int64_t k = first; k < last; ++k) {
+      const State3 start = ensemble_release_3d(params, cone, point_options, k);
+      const Trajectory3 t = simulate_3d(params, cone, start);
+      stats.add(t);
+      if (options.keep_samples) {
+        results[static_cast<std::size_t>(point)].per_sample[static_cast<std::size_t>(k)] = {
+            release_fraction(options.dist, k, n), start.v, t};
+      }
+    }
+#pragma omp critical(funnel_sweep_3d)
+    {
+      if (--pending[static_cast<std::size_t>(point)] == 0) {
+        // Reduce the point's chunks in index order: the same bits whatever the thread count.
+        BlockStats3 total;
+        for (std::int64_t b = 0; b < blocks_per_point; ++b) {
+          total.merge(blocks[static_cast<std::size_t>(point * blocks_per_point + b)]);
+        }
+        Ensemble3Result& r = results[static_cast<std::size_t>(point)];
+        std::vector<Sample3> kept = std::move(r.per_sample);
+        r = total.result(n);
+        r.per_sample = std::move(kept);
+        if (point_done) point_done(static_cast<std::size_t>(point), r);
+      }
+      ++finished;
+      if (progress) progress(finished, n_tasks);
+    }
+  }
+  return results;
+}
+
+Ensemble3Result run_ensemble_3d(const Params& params, const Ensemble3Options& options, const Progress& progress) {
+  return std::move(run_sweep_3d({params}, options, progress).front());
+}
+
+}  // namespace funnel

@@ -1,0 +1,130 @@
+// `--space 3d` on trajectory, ensemble and sweep as a user meets it: options of the other space
+// are refused (exit 2, name, value, range), an in-plane release gives the 2D numbers, the 3D log
+// rebuilds its own flights, seeded ensembles repeat, and 2D outputs keep their columns.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "cli_util.hpp"
+
+namespace {
+
+using namespace funnel_test;
+using nlohmann::json;
+
+bool near(double a, double b, double rel) { return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)); }
+
+TEST_F(Cli, OptionsOfTheOtherSpaceAreRefusedNamingTheParameterValueAndRange) {
+  const std::string out = " --out " + path("x.json");
+  const Result w = run("trajectory --release 0.3 --release-w 0.05" + out);
+  expect_rejected(w, "release-w", "0.05");
+  EXPECT_NE(w.output.find("--space 3d"), std::string::npos) << w.output;
+  expect_rejected(run("ensemble --samples 8 --release-spin-x 2" + out), "release-spin-x", "2");
+  expect_rejected(run("sweep --samples 8 --release-spin-y 0,1" + out), "release-spin-y", "1");
+  expect_rejected(run("trajectory --space 3d --release 0.3 --wear-bins 4" + out), "wear-bins", "4");
+  expect_rejected(run("ensemble --space 3d --samples 8 --wear-bins 4" + out), "wear-bins", "4");
+  const Result dist = run("ensemble --space 3d --samples 8 --release-dist gaussian" + out);
+  expect_rejected(dist, "release-dist", "gaussian");
+  EXPECT_NE(dist.output.find("disk"), std::string::npos) << dist.output;
+  expect_rejected(run("trajectory --space 4d --release 0.3" + out), "space", "4d");
+  expect_rejected(run("trajectory --space 3d --release 0.3 --release-w nan" + out), "release-w", "nan");
+  EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, AnInPlaneReleaseGivesTheTwoDimensionalTrajectory) {
+  const std::string args = "trajectory --theta 50 --release 0.37 --release-spin 3 --events --out ";
+  ASSERT_EQ(run(args + path("a.json")).code, 0);
+  ASSERT_EQ(run(args + path("b.json") + " --space 3d").code, 0);
+  const json a = json::parse(read("a.json")), b = json::parse(read("b.json"));
+  EXPECT_EQ(b["space"], "3d");
+  EXPECT_EQ(a["status"], b["status"]);
+  for (const char* key : {"duration", "impulse", "normal_impulse", "energy_loss", "exit_x", "exit_u", "exit_v"}) {
+    EXPECT_TRUE(near(a[key].get<double>(), b[key].get<double>(), 1e-12)) << key << " " << a[key] << " " << b[key];
+  }
+  EXPECT_EQ(a["collisions"], b["collisions"]);
+  EXPECT_EQ(b["exit_z"].get<double>(), 0.0);
+  EXPECT_EQ(b["orbits"].get<double>(), 0.0);
+  ASSERT_EQ(a["events"].size(), b["events"].size());
+  for (std::size_t i = 0; i < std::min<std::size_t>(a["events"].size(), 20); ++i) {
+    const json& ea = a["events"][i];
+    const json& eb = b["events"][i];
+    EXPECT_EQ(ea["kind"], eb["kind"]) << i;
+    for (const char* key : {"time", "x", "y", "u_after", "v_after", "omega_after"}) {
+      EXPECT_NEAR(ea[key].get<double>(), eb[key].get<double>(), 1e-12 * (1.0 + std::fabs(ea[key].get<double>())))
+          << i << " " << key;
+    }
+    EXPECT_EQ(eb["z"].get<double>(), 0.0);
+    EXPECT_EQ(eb["w_after"].get<double>(), 0.0);
+    EXPECT_EQ(eb["omega_x_after"].get<double>(), 0.0);
+  }
+}
+
+TEST_F(Cli, TheThreeDimensionalEventLogRebuildsItsFlights) {
+  // Between two collisions the centre flies a parabola: the log's positions and velocities
+  // agree with it, and the spin is constant.
+  ASSERT_EQ(run("trajectory --space 3d --theta 60 --release 0.5 --release-w 0.08 --release-spin-x 4 --events --out " +
+                path("t.json"))
+                .code,
+            0);
+  const json t = json::parse(read("t.json"));
+  const json& ev = t["events"];
+  ASSERT_GT(ev.size(), 5u);
+  int flights = 0;
+  for (std::size_t i = 0; i + 1 < ev.size(); ++i) {
+    const json &a = ev[i], &b = ev[i + 1];
+    if (a["kind"] != "face" && a["kind"] != "edge") continue;
+    if (b["kind"] != "face" && b["kind"] != "edge") continue;
+    const double dt = b["time"].get<double>() - a["time"].get<double>();
+    EXPECT_NEAR(b["x"].get<double>(), a["x"].get<double>() + a["u_after"].get<double>() * dt, 1e-9);
+    EXPECT_NEAR(b["z"].get<double>(), a["z"].get<double>() + a["w_after"].get<double>() * dt, 1e-9);
+    EXPECT_NEAR(b["y"].get<double>(), a["y"].get<double>() + a["v_after"].get<double>() * dt - 0.5 * dt * dt, 1e-9);
+    EXPECT_NEAR(b["w_before"].get<double>(), a["w_after"].get<double>(), 1e-12);
+    EXPECT_EQ(b["omega_x_before"], a["omega_x_after"]);
+    EXPECT_EQ(b["omega_y_before"], a["omega_y_after"]);
+    ++flights;
+  }
+  EXPECT_GT(flights, 3);
+  EXPECT_NE(ev[0]["omega_x_before"].get<double>(), 0.0);
+}
+
+TEST_F(Cli, SeededThreeDimensionalEnsemblesRepeatAndReportOrbits) {
+  const std::string args = "ensemble --space 3d --theta 60 --samples 24 --velocity-sd 0.03 --out ";
+  ASSERT_EQ(run(args + path("a.json") + " --seed 5 --threads 2").code, 0);
+  ASSERT_EQ(run(args + path("b.json") + " --seed 5 --threads 1").code, 0);
+  ASSERT_EQ(run(args + path("c.json") + " --seed 6 --threads 2").code, 0);
+  json a = json::parse(read("a.json")), b = json::parse(read("b.json")), c = json::parse(read("c.json"));
+  EXPECT_EQ(a["release_dist"], "disk");
+  EXPECT_EQ(a["seed"], 5);
+  EXPECT_EQ(a["duration"], b["duration"]);  // bit-identical for any thread count
+  EXPECT_EQ(a["orbits"], b["orbits"]);
+  EXPECT_NE(a["duration"]["mean"], c["duration"]["mean"]);
+  EXPECT_GT(a["orbits"]["mean"].get<double>(), 0.0);
+  EXPECT_TRUE(a.contains("exit_w") && a.contains("exit_spin_y"));
+  EXPECT_TRUE(a["params"].contains("release_w"));
+  // sigma = 0 and disk releases: every ball stays in its meridian plane.
+  ASSERT_EQ(run("ensemble --space 3d --theta 60 --samples 24 --out " + path("d.json")).code, 0);
+  EXPECT_EQ(json::parse(read("d.json"))["orbits"]["max"].get<double>(), 0.0);
+}
+
+TEST_F(Cli, TwoDimensionalOutputsKeepTheirColumnsAndThreeDimensionalOnesAddTheirs) {
+  ASSERT_EQ(run("trajectory --release 0.3 --events --format csv --out " + path("a.csv")).code, 0);
+  const std::string a = read("a.csv");
+  EXPECT_EQ(a.substr(0, a.find('\n')),
+            "time,kind,wall,x,y,u_before,v_before,omega_before,u_after,v_after,omega_after,slip_before,regime,j_n,j_t,"
+            "energy_lost");
+  ASSERT_EQ(run("ensemble --samples 8 --format csv --out " + path("e.csv")).code, 0);
+  EXPECT_EQ(read("e.csv").find("release_w"), std::string::npos);
+  EXPECT_EQ(read("e.csv").find("orbits"), std::string::npos);
+  ASSERT_EQ(run("sweep --space 3d --theta 50,60 --release-w 0,0.05 --samples 8 --out " + path("s.csv")).code, 0);
+  const std::string s = read("s.csv");
+  const std::string header = s.substr(0, s.find('\n'));
+  EXPECT_NE(header.find("release_w"), std::string::npos) << header;
+  EXPECT_NE(header.find("orbits_mean"), std::string::npos) << header;
+  EXPECT_NE(header.find("exit_w_mean"), std::string::npos) << header;
+  EXPECT_EQ(std::count(s.begin(), s.end(), '\n'), 5);  // the header and 2 x 2 points
+}
+
+}  // namespace

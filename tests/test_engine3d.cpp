@@ -1,0 +1,285 @@
+// The 3D engine: the 2D trajectory in a meridian plane, symmetries, invariants, bookkeeping,
+// the flight audit and termination.
+#include "funnel/engine3d.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "funnel/audit3d.hpp"
+#include "funnel/ensemble3d.hpp"
+#include "test_util.hpp"
+
+namespace funnel {
+namespace {
+
+using test::near;
+
+Params params_with(double theta, double e, double mu, double beta0 = 0.0, double gap = 0.04) {
+  Params p = default_params();
+  p.theta = theta;
+  p.e = e;
+  p.mu = mu;
+  p.beta0 = beta0;
+  p.gap = gap;
+  return p;
+}
+
+/// Rotation by `angle` about the vertical axis (right-handed about +y).
+Vec3 rotate(Vec3 v, double angle) {
+  return {v.x * std::cos(angle) + v.z * std::sin(angle), v.y, -v.x * std::sin(angle) + v.z * std::cos(angle)};
+}
+State3 rotate(const State3& s, double angle) { return {rotate(s.r, angle), rotate(s.v, angle), rotate(s.omega, angle)}; }
+
+bool close(Vec3 a, Vec3 b, double tol) { return norm(a - b) <= tol * (1.0 + norm(a)); }
+
+TEST(Engine3d, InAMeridianPlaneTheTrajectoryIsTheTwoDimensionalOne) {
+  int runs = 0, with_rim = 0, with_contacts = 0, with_rim_contacts = 0;
+  for (const double theta : {20.0, 35.0, 44.0, 46.0, 60.0, 75.0}) {
+    for (const double e : {0.99, 0.6, 0.0}) {
+      for (const double mu : {0.0, 0.3, 1.0}) {
+        for (const double beta0 : {-0.31, 0.31}) {
+          for (const double x0 : {-0.77, 0.41}) {
+            Params p = params_with(theta, e, mu, beta0);
+            p.max_collisions = 400;
+            // A release just above the faces' ends reaches C* slowly: rim contacts.
+            if (e == 0.0 && beta0 > 0.0) p.release_height = p.radius * (1.0 + std::cos(theta * 3.14159265358979 / 180.0));
+            EventLog l2;
+            EventLog3 l3;
+            const Trajectory t2 = simulate_release(p, make_geometry(p), x0, &l2);
+            const Trajectory3 t3 = simulate_release_3d(p, make_cone(p), x0, &l3);
+            ASSERT_EQ(l2.events.size(), l3.events.size()) << theta << " " << e << " " << mu << " " << x0;
+            for (std::size_t i = 0; i < l2.events.size(); ++i) {
+              const Event& a = l2.events[i];
+              const Event3& b = l3.events[i];
+              ASSERT_EQ(a.kind, b.kind) << i;
+              ASSERT_TRUE(near(b.time, a.time, 1e-12)) << i;
+              ASSERT_TRUE(near(b.position.x, a.position.x, 1e-12, 1e-14)) << i;
+              ASSERT_TRUE(near(b.position.y, a.position.y, 1e-12, 1e-14)) << i;
+              ASSERT_TRUE(near(b.velocity_after.x, a.velocity_after.x, 1e-12, 1e-14)) << i;
+              ASSERT_TRUE(near(b.velocity_after.y, a.velocity_after.y, 1e-12, 1e-14)) << i;
+              ASSERT_TRUE(near(b.omega_after.z, a.omega_after, 1e-12, 1e-12)) << i;
+              ASSERT_EQ(b.position.z, 0.0);
+              ASSERT_EQ(b.velocity_after.z, 0.0);
+            }
+            EXPECT_EQ(t3.status, t2.status);
+            EXPECT_TRUE(near(t3.duration, t2.duration, 1e-12));
+            EXPECT_TRUE(near(t3.impulse, t2.impulse, 1e-12));
+            EXPECT_TRUE(near(t3.energy_loss, t2.energy_loss, 1e-12, 1e-15));
+            EXPECT_EQ(t3.orbits, 0.0);
+            ++runs;
+            with_rim += t3.edge_collisions > 0;
+            with_contacts += t3.contacts > 0;
+            with_rim_contacts += t3.edge_contacts > 0;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(runs, 216);
+  // Rim collisions, sustained face contacts and rim contacts are all part of the comparison.
+  EXPECT_GT(with_rim, 20);
+  EXPECT_GT(with_contacts, 20);
+  EXPECT_GT(with_rim_contacts, 2);
+}
+
+TEST(Engine3d, RotatingTheReleaseAboutTheAxisRotatesTheTrajectory) {
+  struct Case {
+    double theta, e, mu, w;
+    std::size_t events;  // compared before chaos amplifies the rounding of the rotation
+  };
+  int contacts = 0;
+  for (const Case k : {Case{60.0, 0.99, 1.0, 0.05, 60}, Case{30.0, 0.99, 0.5, 0.1, 12}, Case{50.0, 0.3, 1.0, 0.1, 200},
+                       Case{40.0, 0.0, 0.4, 0.0, 200}}) {
+    Params p = params_with(k.theta, k.e, k.mu, 0.2);
+    p.t_max = 300.0;
+    const Cone c = make_cone(p);
+    p.release_w = k.w;
+    p.release_spin_y = 3.0;
+    const State3 s = release_state_3d(p, c, 0.63);
+    EventLog3 a;
+    simulate_3d(p, c, s, &a);
+    for (const double angle : {1.1, -2.4}) {
+      EventLog3 b;
+      simulate_3d(p, c, rotate(s, angle), &b);
+      const std::size_t n = std::min({a.events.size(), b.events.size(), k.events});
+      ASSERT_GT(n, 3u);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Event3& x = a.events[i];
+        const Event3& y = b.events[i];
+        ASSERT_EQ(x.kind, y.kind) << k.theta << " " << i;
+        EXPECT_TRUE(near(y.time, x.time, 1e-8)) << k.theta << " " << i;
+        EXPECT_TRUE(close(y.position, rotate(x.position, angle), 1e-8)) << k.theta << " " << i;
+        EXPECT_TRUE(close(y.velocity_after, rotate(x.velocity_after, angle), 1e-8)) << k.theta << " " << i;
+        contacts += x.kind == EventKind::ContactEnd || x.kind == EventKind::EdgeContactEnd;
+      }
+    }
+  }
+  // The meridian release (w = 0) is solved in closed form, its rotated image by the integrator.
+  EXPECT_GT(contacts, 2);
+}
+
+TEST(Engine3d, MirrorReleaseGivesMirrorTrajectory) {
+  // Reflection z -> -z: positions and velocities flip z, the spin (a pseudovector) flips x and y.
+  auto mirror = [](Vec3 v) { return Vec3{v.x, v.y, -v.z}; };
+  auto mirror_spin = [](Vec3 w) { return Vec3{-w.x, -w.y, w.z}; };
+  for (const double theta : {35.0, 60.0}) {
+    Params p = params_with(theta, 0.9, 0.5, 0.31);
+    p.t_max = 200.0;
+    const Cone c = make_cone(p);
+    p.release_w = 0.15;
+    p.release_spin_x = 2.0;
+    const State3 s = release_state_3d(p, c, 0.5);
+    EventLog3 a, b;
+    const Trajectory3 ta = simulate_3d(p, c, s, &a);
+    const Trajectory3 tb = simulate_3d(p, c, {mirror(s.r), mirror(s.v), mirror_spin(s.omega)}, &b);
+    ASSERT_EQ(a.events.size(), b.events.size());
+    for (std::size_t i = 0; i < a.events.size(); ++i) {
+      EXPECT_EQ(a.events[i].kind, b.events[i].kind);
+      EXPECT_TRUE(near(b.events[i].time, a.events[i].time, 1e-12));
+      EXPECT_TRUE(close(b.events[i].position, mirror(a.events[i].position), 1e-12));
+      EXPECT_TRUE(close(b.events[i].omega_after, mirror_spin(a.events[i].omega_after), 1e-10));
+    }
+    EXPECT_TRUE(near(tb.orbits, -ta.orbits, 1e-12, 1e-12));
+  }
+}
+
+/// Records the worst drift of the energy and of the orbital angular momentum about the axis.
+class Invariants final : public EventSink3 {
+ public:
+  Invariants(const State3& s, const Params& p) : kappa_(p.inertia), a_(p.radius) {
+    e0_ = energy(s, kappa_, a_);
+    l0_ = orbital_momentum_y(s);
+  }
+  void record(const Event3& e) override {
+    const State3 s{e.position, e.velocity_after, e.omega_after};
+    energy_drift = std::max(energy_drift, std::fabs(energy(s, kappa_, a_) - e0_));
+    momentum_drift = std::max(momentum_drift, std::fabs(orbital_momentum_y(s) - l0_) / std::fabs(l0_));
+    ++count;
+    contacts += e.kind == EventKind::ContactEnd || e.kind == EventKind::EdgeContactEnd;
+  }
+  double energy_drift = 0.0, momentum_drift = 0.0;
+  long count = 0, contacts = 0;
+
+ private:
+  double kappa_, a_, e0_ = 0.0, l0_ = 0.0;
+};
+
+TEST(Engine3d, FrictionlessMotionConservesAngularMomentumAboutTheAxis) {
+  double worst = 0.0;
+  long contacts = 0;
+  for (const double gap : {0.04, 0.0}) {
+    for (const double theta : {40.0, 65.0}) {
+      Params p = params_with(theta, 0.8, 0.0, 0.0, gap);
+      p.t_max = 150.0;
+      const Cone c = make_cone(p);
+      p.release_w = 0.12;
+      p.release_spin_x = 5.0;
+      const State3 s = release_state_3d(p, c, 0.7);
+      Invariants inv(s, p);
+      const Trajectory3 t = simulate_3d(p, c, s, &inv);
+      EXPECT_GT(inv.count, 20);
+      worst = std::max(worst, inv.momentum_drift);
+      contacts += inv.contacts;
+      EXPECT_EQ(t.final_state.omega.x, s.omega.x);  // no friction, no torque: the spin is constant
+    }
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(contacts, 0);  // collapses into frictionless sliding are part of it
+  std::printf("mu = 0: worst relative drift of L_y over flights, collisions and contacts %.3g\n", worst);
+}
+
+TEST(Engine3d, ElasticCollisionsThatDoNotDissipateConserveEnergy) {
+  // e = 1 with beta0 = -1 (no tangential impulse), or beta0 = 1 and sticking (mu huge): a long
+  // 3D trajectory in a closed cone keeps its energy.
+  double worst = 0.0;
+  for (const double beta0 : {-1.0, 1.0}) {
+    Params p = params_with(50.0, 1.0, beta0 < 0.0 ? 1.0 : 1e6, beta0, 0.0);
+    p.max_collisions = 20000;
+    const Cone c = make_cone(p);
+    p.release_w = 0.2;
+    p.release_spin_x = -4.0;
+    p.release_spin_y = 7.0;
+    const State3 s = release_state_3d(p, c, -0.45);
+    Invariants inv(s, p);
+    const Trajectory3 t = simulate_3d(p, c, s, &inv);
+    EXPECT_EQ(t.collisions, 20000);
+    EXPECT_LT(inv.energy_drift, 1e-10) << beta0;
+    worst = std::max(worst, inv.energy_drift);
+  }
+  std::printf("e = 1, |beta0| = 1: worst energy drift over 20000 collisions %.3g\n", worst);
+}
+
+TEST(Engine3d, EnergyLossEqualsSumOfEventLosses) {
+  int with_contacts = 0;
+  for (const double theta : {25.0, 50.0, 70.0}) {
+    for (const double e : {0.99, 0.5}) {
+      Params p = params_with(theta, e, 0.7, 0.31);
+      p.t_max = 300.0;
+      const Cone c = make_cone(p);
+      p.release_w = 0.08;
+      const State3 s = release_state_3d(p, c, 0.55);
+      EventLog3 log;
+      const Trajectory3 t = simulate_3d(p, c, s, &log);
+      double sum = 0.0;
+      for (const Event3& ev : log.events) sum += ev.energy_lost;
+      EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-9)) << theta << " " << e;
+      EXPECT_TRUE(near(sum, t.energy_loss_events, 1e-12));
+      with_contacts += t.contacts + t.edge_contacts > 0;
+    }
+  }
+  EXPECT_GT(with_contacts, 1);
+}
+
+TEST(Engine3d, FlightsNeverEnterTheConeOrTheRimAndExitsAreInsideTheOutlet) {
+  FlightAudit3 total;
+  for (const double theta : {20.0, 40.0, 60.0, 80.0}) {
+    for (const double e : {0.99, 0.5}) {
+      Params p = params_with(theta, e, 1.0);
+      p.t_max = 200.0;
+      Ensemble3Options o;
+      o.samples = 40;
+      o.velocity_sd = 0.1;
+      o.seed = 3;
+      const Cone c = make_cone(p);
+      for (std::int64_t k = 0; k < o.samples; ++k) {
+        const State3 s = ensemble_release_3d(p, c, o, k);
+        EventLog3 log;
+        simulate_3d(p, c, s, &log);
+        total.merge(audit_flights_3d(c, s, log.events));
+      }
+    }
+  }
+  EXPECT_TRUE(total.clean()) << total.rim_overlaps << " " << total.face_crossings << " " << total.exits_outside;
+  EXPECT_GT(total.flights, 10000);
+  EXPECT_LT(total.min_rim_distance, 1.0 + 1e-6);  // the rim was touched
+  std::printf("3D audit: %ld flights, closest approach to the rim %.15g a, deepest behind the cone %.3g a\n",
+              static_cast<long>(total.flights), total.min_rim_distance, total.max_face_depth);
+}
+
+TEST(Engine3d, TimeAdvancesAtEveryEventNoZenoLoops) {
+  for (const double theta : {5.0, 30.0, 60.0, 85.0}) {
+    for (const double e : {0.0, 0.5, 0.95}) {
+      for (const double mu : {0.0, 0.2, 5.0}) {
+        Params p = params_with(theta, e, mu);
+        p.t_max = 100.0;
+        const Cone c = make_cone(p);
+        for (const double w : {0.0, 0.1}) {
+          p.release_w = w;
+          EventLog3 log;
+          const Trajectory3 t = simulate_release_3d(p, c, 0.6, &log);
+          EXPECT_FALSE(t.stalled) << theta << " " << e << " " << mu << " " << w;
+          int same = 0, worst = 0;
+          for (std::size_t i = 1; i < log.events.size(); ++i) {
+            same = log.events[i].time == log.events[i - 1].time ? same + 1 : 0;
+            worst = std::max(worst, same);
+          }
+          EXPECT_LT(worst, 3) << theta << " " << e << " " << mu << " " << w;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace funnel
