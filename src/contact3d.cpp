@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <boost/math/tools/roots.hpp>
@@ -28,6 +29,7 @@
 
 #include "funnel/contact.hpp"
 #include "funnel/edge_contact.hpp"
+#include "funnel/funnel.hpp"
 
 namespace funnel {
 
@@ -485,13 +487,19 @@ Contact3Result integrate(bool torus, const State3& start, const Cone& cone, cons
   return run.run(start);
 }
 
-/// The mirror image x -> -x of a 2D state (the 2D engine solves right edges as left ones).
-State mirror(const State& s) {
-  State m = s;
-  m.r.x = -s.r.x;
-  m.v.x = -s.v.x;
-  m.omega = -s.omega;
-  return m;
+/// The 2D funnel's right face, as the cone's face in a meridian half-plane.
+Face right_face(const Geometry& g) {
+  Face f;
+  f.sin_a = g.sin_t;
+  f.cos_a = g.cos_t;
+  f.n = {-g.sin_t, g.cos_t};
+  f.up = {g.cos_t, g.sin_t};
+  f.down = {-g.cos_t, -g.sin_t};
+  f.ref = {0.0, 0.0};
+  f.low = g.closed ? Vec2{0.0, 0.0} : Vec2{g.x_face_end, g.y_face_end};
+  f.length = std::numeric_limits<double>::infinity();
+  f.low_convex = !g.closed;
+  return f;
 }
 
 }  // namespace
@@ -500,7 +508,7 @@ Contact3Result face_contact(const State3& start, const Cone& cone, const Materia
   const Vec3 b = meridian_direction(start.r);
   if (!(opt.closed_forms && in_meridian_plane(start, b))) return integrate(false, start, cone, m, opt);
   // In the meridian half-plane b the face is the 2D funnel's right wall.
-  const ContactResult r = slide_to_end(to_meridian(start, b), Wall::Right, cone.g, m);
+  const ContactResult r = slide_on_face(to_meridian(start, b), right_face(cone.g), 1.0, m);
   Contact3Result res;
   res.closed_form = true;
   res.end = from_meridian(r.end, b);

@@ -1,6 +1,7 @@
 // Event detection in the 3D funnel: run back from a known contact and recover its time; grazing
 // approaches of the rim; the 2D face time in a meridian plane.
 #include "funnel/flight3d.hpp"
+#include "funnel/funnel.hpp"
 
 #include <gtest/gtest.h>
 
@@ -133,12 +134,13 @@ TEST(Flight3d, InAMeridianPlaneTheFaceTimeIsTheTwoDimensionalOneBitForBit) {
     p.theta = theta;
     const Geometry g = make_geometry(p);
     const Cone c = make_cone(p);
+    const Funnel f = make_funnel(p);
     for (std::uint64_t k = 0; k < 300; ++k) {
       State s2;
       s2.r = {(2.0 * draw(k, 0) - 1.0) * g.half_width * 0.9, g.y_release * (0.2 + 0.8 * draw(k, 1))};
       if (face_distance(g, Wall::Left, s2.r) <= 0.0 || face_distance(g, Wall::Right, s2.r) <= 0.0) continue;
       s2.v = {2.0 * draw(k, 2) - 1.0, 2.0 * draw(k, 3) - 1.0};
-      const double t2 = std::min(face_time(g, s2, Wall::Left, {}), face_time(g, s2, Wall::Right, {}));
+      const double t2 = std::min(face_time(f, s2, {Wall::Left, 0}, {}), face_time(f, s2, {Wall::Right, 0}, {}));
       const State3 s3{{s2.r.x, s2.r.y, 0.0}, {s2.v.x, s2.v.y, 0.0}, {}};
       EXPECT_EQ(cone_face_time(c, s3, {}), t2) << theta << " " << k;
     }
