@@ -259,12 +259,25 @@ class Contact {
     // A sliding phase with a large |k (limit - psi_a)| (large mu) changes on the scale 1/|k|:
     // geometric samples at |k| offset = 1/4, 1/2, 1, ... come before the uniform ones, so that
     // its events are bracketed where the exponential is still finite.
-    std::array<double, event_samples + max_geometric_samples> fractions{};
+    // A slow start that decelerates turns within ~W / |dW/dpsi| of it, which may fall between
+    // two uniform samples with W < 0 only there (found by the fuzzer: a missed turning point
+    // let the particle drift uphill): geometric samples from that distance on catch it.
+    std::array<double, event_samples + 2 * max_geometric_samples> fractions{};
     int samples = 0;
-    const double k_span = std::fabs(b.k * (limit - psi_a));
+    const double range = std::fabs(limit - psi_a);
+    const double k_span = std::fabs(b.k * range);
     for (double q = 0.25; q < k_span / event_samples && samples < max_geometric_samples; q *= 2.0) {
       fractions[samples++] = q / k_span;
     }
+    const double acc = b.accel(psi_a, b.normal(psi_a, w_a));
+    if (w_a > 0.0 && dir_ * acc < 0.0 && range > 0.0) {
+      const double turn = w_a / (2.0 * std::fabs(acc)) / range;  // fraction of the range
+      int added = 0;
+      for (double q = turn; q < 1.0 / event_samples && added < max_geometric_samples; q *= 4.0, ++added) {
+        fractions[samples++] = q;
+      }
+    }
+    std::sort(fractions.begin(), fractions.begin() + samples);
     for (int j = 1; j <= event_samples; ++j) fractions[samples++] = static_cast<double>(j) / event_samples;
     PhaseEnd why = PhaseEnd::Limit;
     double psi_b = limit;
