@@ -4,7 +4,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <sstream>
 #include <string>
+#include <vector>
 #include <thread>
 
 #include "cli_util.hpp"
@@ -110,10 +113,23 @@ TEST_F(Cli, OrbitReportsEigenvaluesStabilityAndJacobianAgreement) {
   const auto at46 = csv.find("\n46,0.31,0.4,0.01,");
   ASSERT_NE(at44, std::string::npos) << csv;
   ASSERT_NE(at46, std::string::npos) << csv;
-  const std::string line44 = csv.substr(at44, at46 - at44);
-  const std::string line46 = csv.substr(at46);
-  EXPECT_NE(line44.find(",0,"), std::string::npos) << line44;
-  EXPECT_NE(line46.find(",1,"), std::string::npos) << line46;
+  // The columns by name: "stable" and "jacobian_max_rel_diff" (printed vs finite-difference Jacobian).
+  auto fields = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream in(line);
+    for (std::string f; std::getline(in, f, ',');) out.push_back(f);
+    return out;
+  };
+  const std::vector<std::string> header = fields(csv.substr(0, csv.find('\n')));
+  const auto column = [&](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::vector<std::string> row44 = fields(csv.substr(at44 + 1, at46 - at44 - 1));
+  const std::vector<std::string> row46 = fields(csv.substr(at46 + 1, csv.find('\n', at46 + 1) - at46 - 1));
+  ASSERT_LT(column("jacobian_max_rel_diff"), row44.size());
+  EXPECT_EQ(row44[column("stable")], "0");
+  EXPECT_EQ(row46[column("stable")], "1");
+  for (const auto* row : {&row44, &row46}) EXPECT_LT(std::stod((*row)[column("jacobian_max_rel_diff")]), 1e-8);
   ASSERT_EQ(run("orbit --theta 60 --out " + path("o.json")).code, 0);
   for (const char* key : {"\"eigenvalues\"", "\"real\"", "\"imag\"", "\"modulus\"", "\"stable\"",
                           "\"jacobian_max_rel_diff\""}) {

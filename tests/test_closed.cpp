@@ -61,6 +61,10 @@ TEST(Closed, ShallowFunnelHasNoPeriodicOrbit) {
   // Below 45 degrees the period-2 orbit is unstable: no release settles on it.
   const ClosedResult r = run_closed(elastic_closed(35.0, 1.0), {200, ReleaseDist::Line, 0, false}, {});
   EXPECT_EQ(r.periodic, 0);
+  EXPECT_EQ(r.periodic + r.rest + r.undecided, 200);
+  // The same detector does fire where the orbit is stable: the check above can fail.
+  const ClosedResult steep = run_closed(elastic_closed(60.0, 1.0), {200, ReleaseDist::Line, 0, false}, {});
+  EXPECT_GT(steep.periodic, 150);
 }
 
 TEST(Closed, ResultsDoNotDependOnTheThreadCount) {
