@@ -227,7 +227,12 @@ void check_trajectory(const Params& p, const funnel::Funnel& fn, const State& re
   require(t.normal_impulse >= 0.0 && t.impulse >= t.normal_impulse * (1.0 - 1e-12), "impulses inconsistent",
           t.impulse, t.normal_impulse);
   if (fn.closed) require(t.status != Status::Exited, "closed funnel exited");
-  if (!fn.closed) require(t.status != Status::Rest, "open funnel at rest");
+  // An open funnel's particle rests only on a level face (a ledge; here a wall whose angle is
+  // so small that its down-slope acceleration underflows), stopped.
+  if (!fn.closed && t.status == Status::Rest) {
+    require(t.final_state.v.x == 0.0 && t.final_state.v.y == 0.0, "open funnel at rest while moving",
+            t.final_state.v.x, t.final_state.v.y);
+  }
   // The Zeno guard should never fire (in a closed funnel a pile-up of events at the vertex is
   // rest); trapped is otherwise the time or the collision cap. The exception is a resolution
   // limit, not a bug: in a slot a few ulps of the clock wider than the sphere (d - 2a below
@@ -276,7 +281,7 @@ void check_trajectory(const Params& p, const funnel::Funnel& fn, const State& re
             "exit state does not balance the energy", at_exit, e0 - t.energy_loss);
   } else if (!plain) {
     // an asymmetric V or a spout: the audit above covers the walls
-  } else if (t.status == Status::Rest) {
+  } else if (t.status == Status::Rest && fn.closed) {
     // At the vertex: exactly after a sustained contact, else within the energy eps_rest above it.
     require(s.r.y >= -tol && s.r.y <= p.eps_rest + tol, "rest away from the vertex", s.r.x, s.r.y);
   } else if (g.closed || s.r.y >= g.y_face_end) {
