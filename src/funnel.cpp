@@ -120,7 +120,6 @@ void finish(Funnel& f, const Params& params) {
   }
   const Vec2 el = f.sides[0].corners[0].point, er = f.sides[1].corners[0].point;
   f.closed = f.sides[0].corners[0].bottom;
-  f.horizontal_outlet = el.y == er.y;
   f.y_exit = std::min(el.y, er.y);
 }
 

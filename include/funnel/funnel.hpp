@@ -66,7 +66,6 @@ struct Funnel {
   std::array<Side, 2> sides;    ///< 0 left, 1 right
   bool closed = false;          ///< the lower ends coincide: no outlet, rest at the bottom
   bool symmetric = false;       ///< the right wall is the exact mirror of the left one (and materials equal)
-  bool horizontal_outlet = true;///< the lower ends are at one height
   double y_exit = 0.0;          ///< exit level: the lower of the two lower ends (crossed downward = exited)
   double y_bottom = 0.0;        ///< the funnel bottom: release-height is measured from it
   double y_release = 0.0;       ///< release height of the centre
