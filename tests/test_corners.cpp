@@ -11,6 +11,7 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/observables.hpp"
 #include "funnel/wear.hpp"
+#include "audit_util.hpp"
 #include "test_util.hpp"
 
 namespace funnel {
@@ -35,24 +36,9 @@ TEST(Corners, NoFreeFlightEntersAWallOrACornerOverWholeEnsembles) {
     for (const double e : {0.1, 0.4}) {
       for (const double beta0 : {0.0, 0.31, -0.31}) {
         const Params p = params_with(theta, e, 1.0, beta0);
-        const Geometry g = make_geometry(p);
-  const Funnel fn = make_funnel(p);
-        const std::int64_t n = 4000;
-        std::vector<FlightAudit> audits(static_cast<std::size_t>(n));
-        std::vector<std::int64_t> contacts(static_cast<std::size_t>(n));
-#pragma omp parallel for schedule(dynamic, 64)
-        for (std::int64_t k = 0; k < n; ++k) {
-          const double f = release_fraction(ReleaseDist::Line, k, n);
-          EventLog log;
-          const Trajectory t = simulate_release(p, g, f, &log);
-          audits[static_cast<std::size_t>(k)] = audit_flights(fn, release_state(p, g, f), log.events);
-          contacts[static_cast<std::size_t>(k)] = t.edge_contacts;
-        }
-        FlightAudit total;
-        for (std::int64_t k = 0; k < n; ++k) {
-          total.merge(audits[static_cast<std::size_t>(k)]);
-          edge_contacts += contacts[static_cast<std::size_t>(k)];
-        }
+        const test::EnsembleAudit audit = test::audit_line_ensemble(p, make_funnel(p), 4000);
+        const FlightAudit& total = audit.flights;
+        edge_contacts += audit.edge_contacts;
         trajectories += total.trajectories;
         EXPECT_EQ(total.edge_overlaps, 0) << theta << " " << e << " " << beta0;
         EXPECT_EQ(total.face_crossings, 0) << theta << " " << e << " " << beta0;

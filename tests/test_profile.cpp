@@ -11,6 +11,7 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/funnel.hpp"
 #include "funnel/observables.hpp"
+#include "audit_util.hpp"
 #include "test_util.hpp"
 
 namespace funnel {
@@ -232,21 +233,9 @@ TEST(Profile, NoFreeFlightEntersAWallOverWholeEnsembles) {
       ASSERT_FALSE(validate(p)) << validate(p)->message();
       const Funnel f = make_funnel(p);
       const std::int64_t n = 600;
-      std::vector<FlightAudit> audits(static_cast<std::size_t>(n));
-      std::vector<std::int64_t> contacts(static_cast<std::size_t>(n));
-#pragma omp parallel for schedule(dynamic, 16)
-      for (std::int64_t k = 0; k < n; ++k) {
-        const double x = release_fraction(ReleaseDist::Line, k, n);
-        EventLog log;
-        const Trajectory t = simulate_release(p, f, x, &log);
-        audits[static_cast<std::size_t>(k)] = audit_flights(f, release_state(p, f, x), log.events);
-        contacts[static_cast<std::size_t>(k)] = t.edge_contacts;
-      }
-      FlightAudit total;
-      for (std::int64_t k = 0; k < n; ++k) {
-        total.merge(audits[static_cast<std::size_t>(k)]);
-        edge_contacts += contacts[static_cast<std::size_t>(k)];
-      }
+      const test::EnsembleAudit audit = test::audit_line_ensemble(p, f, n);
+      const FlightAudit& total = audit.flights;
+      edge_contacts += audit.edge_contacts;
       EXPECT_EQ(total.trajectories, n);
       EXPECT_EQ(total.edge_overlaps, 0) << f.source << " e=" << e;
       EXPECT_EQ(total.face_crossings, 0) << f.source << " e=" << e << " depth " << total.max_face_depth;
