@@ -63,15 +63,10 @@ std::vector<Vec2> vertices_of(const std::string& file, const std::string& key, c
   return out;
 }
 
-struct SideIn {
-  std::optional<std::vector<Vec2>> vertices;
-  std::optional<double> e, mu, beta0;
-};
-
-SideIn side_of(const std::string& file, const std::string& name, const toml::node& node) {
+WallSpec side_of(const std::string& file, const std::string& name, const toml::node& node) {
   const toml::table* tbl = node.as_table();
   if (tbl == nullptr) fail(file, name + " is not a table [" + name + "]");
-  SideIn side;
+  WallSpec side;
   const std::vector<std::string> keys{"vertices", "e", "mu", "beta0"};
   for (auto&& [k, value] : *tbl) {
     const std::string key(k.str());
@@ -102,7 +97,7 @@ std::shared_ptr<const ProfileSpec> read_geometry(const std::string& file) {
     throw UsageError("invalid geometry = '" + file + "': line " + std::to_string(at.line) + ", column " +
                      std::to_string(at.column) + ": " + std::string(err.description()));
   }
-  std::optional<SideIn> left, right;
+  std::optional<WallSpec> left, right;
   bool mirror = false;
   std::optional<double> bottom;
   const std::vector<std::string> keys{"left", "right", "mirror", "bottom"};
@@ -124,18 +119,12 @@ std::shared_ptr<const ProfileSpec> read_geometry(const std::string& file) {
       fail(file, "unknown key '" + key + "'" + (s ? " (did you mean '" + *s + "'?)" : ""));
     }
   }
-  if (!left || !left->vertices) fail(file, "no [left] table with vertices");
   auto spec = std::make_shared<ProfileSpec>();
-  if (mirror) {
-    if (right && right->vertices) fail(file, "mirror = true and [right] vertices: give one or the other");
-    *spec = mirrored_profile(*left->vertices);
-  } else {
-    if (!right || !right->vertices) fail(file, "no [right] table with vertices (or mirror = true)");
-    spec->sides = {*left->vertices, *right->vertices};
+  try {
+    *spec = assemble_profile(left, right, mirror);
+  } catch (const std::invalid_argument& err) {
+    fail(file, err.what());
   }
-  spec->e = {left->e, right ? right->e : (mirror ? left->e : std::nullopt)};
-  spec->mu = {left->mu, right ? right->mu : (mirror ? left->mu : std::nullopt)};
-  spec->beta0 = {left->beta0, right ? right->beta0 : (mirror ? left->beta0 : std::nullopt)};
   spec->bottom = bottom;
   spec->source = file;
   return spec;

@@ -2,6 +2,7 @@
 // error that names the side, the vertex or segment, its value and the rule.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "funnel/funnel.hpp"
@@ -142,6 +143,26 @@ std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params
     return err;
   }
   return std::nullopt;
+}
+
+ProfileSpec assemble_profile(const std::optional<WallSpec>& left, const std::optional<WallSpec>& right, bool mirror) {
+  if (!left || !left->vertices) throw std::invalid_argument("no left wall with vertices");
+  ProfileSpec spec;
+  if (mirror) {
+    if (right && right->vertices) throw std::invalid_argument("mirror = true and right vertices: give one or the other");
+    spec = mirrored_profile(*left->vertices);
+  } else {
+    if (!right || !right->vertices) throw std::invalid_argument("no right wall with vertices (or mirror = true)");
+    spec.sides = {*left->vertices, *right->vertices};
+  }
+  // The right wall's material: its own, else (mirrored) the left's, else the parameters'.
+  const auto right_of = [&](std::optional<double> WallSpec::*m) {
+    return right ? (*right).*m : (mirror ? (*left).*m : std::nullopt);
+  };
+  spec.e = {left->e, right_of(&WallSpec::e)};
+  spec.mu = {left->mu, right_of(&WallSpec::mu)};
+  spec.beta0 = {left->beta0, right_of(&WallSpec::beta0)};
+  return spec;
 }
 
 ProfileSpec mirrored_profile(std::vector<Vec2> left) {

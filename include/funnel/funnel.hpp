@@ -97,6 +97,18 @@ double drawing_top(const Funnel& f);
 /// A symmetric profile: `left` as given and its mirror image x -> -x as the right side.
 ProfileSpec mirrored_profile(std::vector<Vec2> left);
 
+/// One wall as a geometry file or a Python dict gives it: its vertices (none on the right of a
+/// mirrored funnel) and its optional material.
+struct WallSpec {
+  std::optional<std::vector<Vec2>> vertices;
+  std::optional<double> e, mu, beta0;
+};
+
+/// The profile of a geometry file's layout (docs/cli.md, "Geometry files"): the left wall, the
+/// right one or `mirror` (the left mirrored, with the left's materials unless `right` gives its
+/// own). Throws std::invalid_argument naming what is missing or contradictory.
+ProfileSpec assemble_profile(const std::optional<WallSpec>& left, const std::optional<WallSpec>& right, bool mirror);
+
 /// Release position of the centre for X = fraction in (-1, 1) on the release line.
 inline Vec2 release_point(const Funnel& f, double fraction) {
   return {f.x_release_mid + fraction * f.half_width, f.y_release};

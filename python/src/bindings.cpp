@@ -85,15 +85,11 @@ std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry
       throw py::value_error("invalid geometry: unknown key '" + key + "' (left, right, mirror, bottom)");
     }
   }
-  struct SideIn {
-    std::optional<std::vector<funnel::Vec2>> vertices;
-    std::optional<double> e, mu, beta0;
-  };
-  auto side_of = [](const py::dict& g, const char* name) -> std::optional<SideIn> {
+  auto side_of = [](const py::dict& g, const char* name) -> std::optional<funnel::WallSpec> {
     if (!g.contains(name)) return std::nullopt;
     const py::object o = g[name];
     if (!py::isinstance<py::dict>(o)) throw py::value_error(std::string("invalid geometry: ") + name + " is not a dict");
-    SideIn s;
+    funnel::WallSpec s;
     for (const auto& [k, v] : o.cast<py::dict>()) {
       const std::string key = py::str(k);
       const std::string at = std::string(name) + "." + key;
@@ -107,20 +103,14 @@ std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry
     }
     return s;
   };
-  const std::optional<SideIn> left = side_of(g, "left"), right = side_of(g, "right");
+  const std::optional<funnel::WallSpec> left = side_of(g, "left"), right = side_of(g, "right");
   const bool mirror = g.contains("mirror") && g["mirror"].cast<bool>();
-  if (!left || !left->vertices) throw py::value_error("invalid geometry: no 'left' with 'vertices'");
   auto spec = std::make_shared<funnel::ProfileSpec>();
-  if (mirror) {
-    if (right && right->vertices) throw py::value_error("invalid geometry: mirror = True and right vertices");
-    *spec = funnel::mirrored_profile(*left->vertices);
-  } else {
-    if (!right || !right->vertices) throw py::value_error("invalid geometry: no 'right' with 'vertices' (or mirror)");
-    spec->sides = {*left->vertices, *right->vertices};
+  try {
+    *spec = funnel::assemble_profile(left, right, mirror);
+  } catch (const std::invalid_argument& err) {
+    throw py::value_error(std::string("invalid geometry: ") + err.what());
   }
-  spec->e = {left->e, right ? right->e : (mirror ? left->e : std::nullopt)};
-  spec->mu = {left->mu, right ? right->mu : (mirror ? left->mu : std::nullopt)};
-  spec->beta0 = {left->beta0, right ? right->beta0 : (mirror ? left->beta0 : std::nullopt)};
   if (g.contains("bottom")) spec->bottom = geometry_number(g["bottom"], "bottom");
   spec->source = g.contains("source") ? std::string(py::str(g["source"])) : std::string("profile");
   return spec;
