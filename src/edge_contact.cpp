@@ -39,6 +39,9 @@ constexpr int max_phases = 64;
 constexpr int event_samples = 32;
 /// At most this many geometric samples precede them in a fast-changing sliding phase.
 constexpr int max_geometric_samples = 24;
+/// At most this many geometric samples from a decelerating start's turning distance (enough to
+/// go from one ulp of psi to the first uniform sample, factor 4 apart).
+constexpr int max_turn_samples = 28;
 /// Pieces of a sliding phase at whose ends the slip is checked for a zero.
 constexpr int slip_pieces = 8;
 /// Relative accuracy of every quadrature (of its L1 norm), below the 1e-13 the model asks for.
@@ -262,7 +265,7 @@ class Contact {
     // A slow start that decelerates turns within ~W / |dW/dpsi| of it, which may fall between
     // two uniform samples with W < 0 only there (found by the fuzzer: a missed turning point
     // let the particle drift uphill): geometric samples from that distance on catch it.
-    std::array<double, event_samples + 2 * max_geometric_samples> fractions{};
+    std::array<double, event_samples + max_geometric_samples + max_turn_samples> fractions{};
     int samples = 0;
     const double range = std::fabs(limit - psi_a);
     const double k_span = std::fabs(b.k * range);
@@ -271,9 +274,13 @@ class Contact {
     }
     const double acc = b.accel(psi_a, b.normal(psi_a, w_a));
     if (w_a > 0.0 && dir_ * acc < 0.0 && range > 0.0) {
-      const double turn = w_a / (2.0 * std::fabs(acc)) / range;  // fraction of the range
+      // From the first sample that moves psi at all: a start at rest within rounding (W ~ 1e-37)
+      // turns below one ulp of psi, and W may be positive again at the uniform samples when the
+      // friction overcomes gravity further on (found by the fuzzer: the particle slid uphill).
+      const double ulp_fraction = 4.0 * std::numeric_limits<double>::epsilon() * std::fmax(1.0, std::fabs(psi_a)) / range;
+      const double turn = std::fmax(w_a / (2.0 * std::fabs(acc)) / range, ulp_fraction);  // fraction of the range
       int added = 0;
-      for (double q = turn; q < 1.0 / event_samples && added < max_geometric_samples; q *= 4.0, ++added) {
+      for (double q = turn; q < 1.0 / event_samples && added < max_turn_samples; q *= 4.0, ++added) {
         fractions[samples++] = q;
       }
     }
@@ -284,6 +291,9 @@ class Contact {
     double prev = psi_a;
     for (int j = 0; j < samples && why == PhaseEnd::Limit; ++j) {
       const double psi = j == samples - 1 ? limit : psi_a + (limit - psi_a) * fractions[j];
+      // A fraction too small to move psi (or two equal fractions) brackets nothing (found by
+      // the fuzzer: an empty bracket at psi = pi aborted the root finder).
+      if (psi == prev) continue;
       auto check = [&](const auto& f, PhaseEnd kind) {
         const double f_to = f(psi);
         if (!(f_to <= 0.0)) return;

@@ -47,7 +47,7 @@ Reference integrate(double psi, double rate, double omega, double psi_high, cons
     return k * std::fabs(std::cos(ps)) <= mu * (1 + k) * n ? 0 : (std::cos(ps) >= 0 ? 1 : -1);
   };
   regime = pick(psi, rate, omega);
-  auto deriv = [&](double ps, double rt, double om, int reg, double out[3]) {
+  auto deriv = [&](double ps, double rt, double /*omega*/, int reg, double out[3]) {
     const double n = std::sin(ps) - a * rt * rt;
     const double f = reg == 0 ? -k * std::cos(ps) / (1 + k) : -reg * mu * n;
     out[0] = rt;
@@ -227,6 +227,20 @@ TEST(EdgeContact, ASlowStartThatTurnsAtOnceFindsItsTurningPoint) {
   const EdgeContactResult r = edge_contact(start, {e, 3.1415899997541659 - pi, 3.1415899997541659}, m);
   EXPECT_GE(r.energy_lost, 0.0);
   EXPECT_NEAR(r.energy_lost, energy(start, m.kappa, m.radius) - energy(r.end, m.kappa, m.radius), 1e-12);
+}
+
+TEST(EdgeContact, AStartAtRestWithinRoundingTurnsAtOnce) {
+  // The same corner from rest within rounding (psi' ~ 1e-19, W ~ 1e-37): the turning point lies
+  // below one ulp of psi, and W is positive again at the first uniform sample, where friction
+  // overcomes gravity. Missed, the particle slid 0.01 rad uphill and gained 0.0015 mgH (found by
+  // the fuzzer). It must start downhill at once, losing energy.
+  const Material m = material_of(1.0745098039215686, 1.673128942025482, 0.99999999769741477);
+  const Vec2 e{0.0, 0.0};
+  const double psi0 = 2.3971324131901248;
+  const State start = on_circle(e, m.radius, psi0, -3.5698414915934613e-19, -1.0000000023029421e-06);
+  const EdgeContactResult r = edge_contact(start, {e, 3.1415899997541659 - pi, 3.1415899997541659}, m);
+  EXPECT_GT(r.energy_lost, 0.0);
+  EXPECT_GT(std::atan2(r.end.r.y, r.end.r.x), psi0);  // downhill, towards psi = pi
 }
 
 }  // namespace
