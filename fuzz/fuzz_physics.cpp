@@ -14,12 +14,16 @@
 //    exit lies between the edges; the exit state balances the energy; the wear bins sum to the
 //    totals; the Zeno guard never fires; the mirror release gives the mirror result bit for bit
 //    (line ensembles rely on it).
+//  - the same for random wall profiles (ledges, spouts, wedges, corners, an outlet of any width
+//    or closed, lower ends at different heights, a material per wall), and the mirror release in
+//    the mirror profile.
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <vector>
 
 #include "funnel/audit.hpp"
@@ -238,8 +242,10 @@ void check_trajectory(const Params& p, const funnel::Funnel& fn, const State& re
   // limit, not a bug: in a slot a few ulps of the clock wider than the sphere (d - 2a below
   // ~1e-12, e.g. d = 2a (1 + 1e-12) with a = 1e-6) it bounces between the edges faster than
   // the clock (|t| ~ 1, ulp 2e-16) can tell the collisions apart.
-  const double slot = fn.closed ? 1.0 : 0.5 * p.gap - p.radius;
-  require(!t.stalled || slot < 1e-12 * std::fmax(1.0, t.duration), "Zeno guard fired", t.duration, slot);
+  const Vec2 left_end = fn.sides[0].corners[0].point, right_end = fn.sides[1].corners[0].point;
+  const double slot = fn.closed ? 1.0 : 0.5 * std::hypot(right_end.x - left_end.x, right_end.y - left_end.y) - p.radius;
+  const bool clock_slot = slot < 1e-12 * std::fmax(1.0, t.duration);
+  require(!t.stalled || clock_slot, "Zeno guard fired", t.duration, slot);
   if (t.status == Status::Trapped && !t.stalled) {
     require(t.duration == p.t_max || t.collisions == p.max_collisions, "trapped before the caps", t.duration,
             static_cast<double>(t.collisions));
@@ -274,7 +280,9 @@ void check_trajectory(const Params& p, const funnel::Funnel& fn, const State& re
           "wear normal impulse != normal impulse", wear_normal, t.normal_impulse);
   if (t.status == Status::Exited) {
     require(s.r.y == fn.y_exit, "exited off the exit level", s.r.y, fn.y_exit);
-    require(std::fabs(s.r.x) <= 0.5 * p.gap - p.radius * (1.0 - 1e-9), "exited outside the gap", s.r.x, p.gap);
+    if (!p.profile) {  // a profile's outlet: the audit's exit check above
+      require(std::fabs(s.r.x) <= 0.5 * p.gap - p.radius * (1.0 - funnel::audit_tolerance_for(p.radius)), "exited outside the gap", s.r.x, p.gap);
+    }
     // The exit state balances the energy.
     const double at_exit = funnel::energy(t.exit_state, p.inertia, p.radius);
     require(std::fabs(at_exit - (e0 - t.energy_loss)) <= 1e-9 * std::fmax(1.0, std::fabs(e0)),
@@ -310,6 +318,94 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
           "mirror release exits in a non-mirror state", a.exit_state.r.x, b.exit_state.r.x);
 }
 
+/// A segment's angle to the horizontal, degrees: ledges, spouts, and everything between.
+double pick_segment_angle(FuzzedDataProvider& f) {
+  switch (f.ConsumeIntegralInRange<int>(0, 4)) {
+    case 0: return 0.0;   // a ledge
+    case 1: return 90.0;  // a spout
+    case 2: return log_uniform(f, -6.0, 1.0);
+    case 3: return 90.0 - log_uniform(f, -6.0, 1.0);
+    default: return 90.0 * f.ConsumeProbability<double>();
+  }
+}
+
+/// One wall's surface from its lower end `end` up: 1 to 4 segments of random angles (0 to 90
+/// degrees, no overhang) and lengths; `sign` -1 builds a left wall, +1 a right one. Returned
+/// from the top down, as a geometry file lists it.
+std::vector<Vec2> pick_wall(FuzzedDataProvider& f, Vec2 end, double sign) {
+  std::vector<Vec2> up{end};
+  const int segments = f.ConsumeIntegralInRange<int>(1, 4);
+  for (int k = 0; k < segments; ++k) {
+    const double angle = pick_segment_angle(f) * 3.141592653589793 / 180.0;
+    const double length = log_uniform(f, -4.0, 0.5);
+    const Vec2 last = up.back();
+    up.push_back({last.x + sign * length * std::cos(angle), last.y + length * std::sin(angle)});
+  }
+  return {up.rbegin(), up.rend()};
+}
+
+/// The mirror image x -> -x of a profile: the sides and their materials swapped.
+funnel::ProfileSpec mirror_profile(const funnel::ProfileSpec& spec) {
+  funnel::ProfileSpec m = spec;
+  for (int side = 0; side < 2; ++side) {
+    m.sides[side] = spec.sides[1 - side];
+    for (Vec2& v : m.sides[side]) v.x = 0.0 - v.x;
+    m.e[side] = spec.e[1 - side];
+    m.mu[side] = spec.mu[1 - side];
+    m.beta0[side] = spec.beta0[1 - side];
+  }
+  return m;
+}
+
+/// A release in a random wall profile (docs/model.md §2b): walls of ledges, spouts, wedges and
+/// corners, an outlet of any width (or closed), lower ends at different heights, a material per
+/// wall; profiles that validate() rejects are skipped. The invariants of any funnel, and the
+/// mirror release in the mirror profile gives the mirror result.
+void check_profile(FuzzedDataProvider& f, Params p) {
+  p.theta_left = Params::unset;
+  p.theta_right = Params::unset;
+  p.spout_length = 0.0;
+  auto spec = std::make_shared<funnel::ProfileSpec>();
+  const bool closed = f.ConsumeBool();
+  const double half = closed ? 0.0 : p.radius * (1.0 + log_uniform(f, -12.0, 2.0));
+  const double drop = f.ConsumeBool() ? 0.0 : uniform(f, -0.3, 0.3);  // the right lower end's height
+  spec->sides[0] = pick_wall(f, {-half, 0.0}, -1.0);
+  if (f.ConsumeBool()) {
+    spec->sides[1] = spec->sides[0];
+    for (Vec2& v : spec->sides[1]) v.x = 0.0 - v.x;
+  } else {
+    spec->sides[1] = pick_wall(f, {half, closed ? 0.0 : drop}, 1.0);
+  }
+  if (f.ConsumeBool()) {  // a material of its own for the right wall
+    spec->e[1] = pick_e(f);
+    spec->mu[1] = pick_mu(f);
+    spec->beta0[1] = pick_beta0(f);
+  }
+  spec->source = "fuzz";
+  p.profile = spec;
+  if (funnel::validate(p)) return;
+  const double fraction = uniform(f, -1.0, 1.0);
+  if (!(fraction > -1.0 && fraction < 1.0)) return;
+  char walls[192];
+  std::snprintf(walls, sizeof walls, " profile: left %zu, right %zu vertices, top-left (%.17g, %.17g), closed %d",
+                spec->sides[0].size(), spec->sides[1].size(), spec->sides[0][0].x, spec->sides[0][0].y, closed);
+  std::snprintf(context, sizeof context,
+                "--e %.17g --mu %.17g --beta0 %.17g --inertia %.17g --radius %.17g --t-max %.17g "
+                "--max-collisions %lld --release %.17g --release-height %.17g%s",
+                p.e, p.mu, p.beta0, p.inertia, p.radius, p.t_max, static_cast<long long>(p.max_collisions),
+                fraction, p.release_height, walls);
+  const funnel::Funnel g = funnel::make_funnel(p);
+  funnel::EventLog log;
+  funnel::Wear wear = funnel::Wear::make(g, 5);
+  const Trajectory t = funnel::simulate_release(p, g, fraction, &log, &wear);
+  check_trajectory(p, g, funnel::release_state(p, g, fraction), t, log.events, wear);
+  Params mirror = p;
+  mirror.release_u = 0.0 - p.release_u;
+  mirror.release_spin = 0.0 - p.release_spin;
+  mirror.profile = std::make_shared<funnel::ProfileSpec>(mirror_profile(*spec));
+  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, funnel::make_funnel(mirror), -fraction));
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -343,5 +439,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   mirror.theta_left = p.theta_right;
   mirror.theta_right = p.theta_left;
   if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, funnel::make_funnel(mirror), -fraction));
+  // Inputs with bytes left over run a random wall profile too (consumed last, so that the
+  // seeds of the V keep their meaning).
+  if (f.remaining_bytes() > 0 && f.ConsumeBool()) check_profile(f, p);
   return 0;
 }

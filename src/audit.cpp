@@ -86,6 +86,7 @@ FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vect
   audit.trajectories = 1;
   audit.min_edge_distance = never;
   const double a = f.radius;
+  const double tol = audit_tolerance_for(a);
   State s = initial;
   double t_prev = 0.0;
   bool in_contact = false;
@@ -98,12 +99,12 @@ FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vect
           if (!c.convex) continue;
           const double dist = min_distance(s, duration, c.point) / a;
           audit.min_edge_distance = std::min(audit.min_edge_distance, dist);
-          if (dist < 1.0 - audit_tolerance) ++audit.edge_overlaps;
+          if (dist < 1.0 - tol) ++audit.edge_overlaps;
         }
         for (const Face& face : side.faces) {
           const double depth = face_depth(face, s, duration, a) / a;
           audit.max_face_depth = std::max(audit.max_face_depth, depth);
-          if (depth > audit_tolerance) ++audit.face_crossings;
+          if (depth > tol) ++audit.face_crossings;
         }
       }
     }
@@ -116,7 +117,7 @@ FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vect
         // Between the edge circles: at least a from both lower ends.
         for (const Side& side : f.sides) {
           const Vec2 d = e.position - side.corners[0].point;
-          if (std::hypot(d.x, d.y) < a * (1.0 - audit_tolerance)) ++audit.exits_outside;
+          if (std::hypot(d.x, d.y) < a * (1.0 - tol)) ++audit.exits_outside;
         }
         break;
       default: break;
