@@ -88,7 +88,10 @@ WallSpec side_of(const std::string& file, const std::string& name, const toml::n
 }  // namespace
 
 std::shared_ptr<const ProfileSpec> read_geometry(const std::string& file) {
-  const std::string text = read_file(file);
+  return parse_geometry(read_file(file), file);
+}
+
+std::shared_ptr<const ProfileSpec> parse_geometry(const std::string& text, const std::string& file) {
   toml::table tbl;
   try {
     tbl = toml::parse(text, file);

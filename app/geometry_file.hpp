@@ -17,4 +17,7 @@ extern const char* const geometry_layout;
 /// the wrong type, naming the key.
 std::shared_ptr<const ProfileSpec> read_geometry(const std::string& file);
 
+/// The same for the text of a geometry file; `file` names it in messages.
+std::shared_ptr<const ProfileSpec> parse_geometry(const std::string& text, const std::string& file);
+
 }  // namespace funnel::cli

@@ -125,7 +125,7 @@ FigureSpec load_figure(const std::string& path, bool quick) {
       fig.panels.push_back(panel);
     }
   }
-  if (fig.panels.empty()) fig.panels.push_back({"a", "", {}});
+  if (fig.panels.empty()) fig.panels.push_back({"a", "", {}, std::nullopt});
   if (const toml::table* c = tbl["check"].as_table()) fig.check = *c;
   if (const toml::table* s = tbl["settings"].as_table()) fig.settings = *s;
   if (quick) {

@@ -9,7 +9,9 @@
 //    [start, stop + step 1e-9], a list one value per comma; a rejection gives a reason;
 //  - set_parameter/get_parameter round-trip; every point of a grid carries its axes' values;
 //  - validate rejects with a known parameter name and range text, and accepts only values in
-//    the documented ranges whose geometry is finite and consistent.
+//    the documented ranges whose geometry is finite and consistent;
+//  - a geometry file (app/geometry_file.cpp) is rejected naming the file, or validated into a
+//    finite funnel without overhangs, or rejected by validate with a reason.
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -19,15 +21,19 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/grid.hpp"
 #include "funnel/params.hpp"
+#include "geometry_file.hpp"
+#include "cli_common.hpp"
 
 namespace {
 
@@ -206,6 +212,35 @@ void check_toml(std::string_view text) {
 
 }  // namespace
 
+/// The text as a geometry file (`--geometry FILE.toml`, app/geometry_file.cpp, compiled into
+/// this target): it is rejected with a UsageError naming the file, or gives a profile that
+/// validate() either rejects with a reason or turns into a funnel with finite numbers.
+void check_geometry(std::string_view text) {
+  if (std::any_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) >= 0x80; })) return;
+  std::shared_ptr<const funnel::ProfileSpec> spec;
+  try {
+    spec = funnel::cli::parse_geometry(std::string(text), "fuzz.toml");
+  } catch (const funnel::cli::UsageError& err) {
+    require(std::string_view(err.what()).starts_with("invalid geometry = 'fuzz.toml': "), "geometry error without the file",
+            err.what());
+    return;
+  }
+  funnel::Params p = funnel::default_params();
+  p.profile = spec;
+  if (const auto error = funnel::validate(p)) {
+    require(!error->name.empty() && !error->range.empty(), "geometry rejected without a reason", error->value);
+    return;
+  }
+  const funnel::Funnel f = funnel::make_funnel(p);
+  require(std::isfinite(f.y_exit) && std::isfinite(f.y_release) && std::isfinite(f.half_width) && f.half_width > 0.0 &&
+              std::isfinite(f.x_release_mid),
+          "accepted geometry with a non-finite funnel");
+  for (const funnel::Side& side : f.sides) {
+    require(!side.faces.empty() && !side.corners.empty(), "accepted geometry without faces");
+    for (const funnel::Face& face : side.faces) require(face.n.y >= 0.0, "accepted geometry with an overhang");
+  }
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > 4096) return 0;  // long inputs add nothing but time
   const std::string_view text(reinterpret_cast<const char*>(data), size);
@@ -216,5 +251,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   check_validate(data, size);
   check_toml(text);
+  check_geometry(text);
   return 0;
 }

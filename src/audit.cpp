@@ -86,7 +86,8 @@ FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vect
   audit.trajectories = 1;
   audit.min_edge_distance = never;
   const double a = f.radius;
-  const double tol = audit_tolerance_for(a);
+  const double size = std::fmax(f.half_width + std::fabs(f.x_release_mid), std::fmax(std::fabs(f.y_release), std::fabs(f.y_exit)));
+  const double tol = audit_tolerance_for(a, size);
   State s = initial;
   double t_prev = 0.0;
   bool in_contact = false;

@@ -51,7 +51,9 @@ TEST(Golden, RecordedTrajectoriesAreReproduced) {
     for (const std::string& name : sweep_parameter_names()) {
       std::string key = name;
       for (char& c : key) c = c == '-' ? '_' : c;
-      if (row.count(key) != 0) ASSERT_TRUE(set_parameter(p, name, num(row, key)));  // older files: defaults
+      if (row.count(key) != 0) {  // older files: defaults
+        ASSERT_TRUE(set_parameter(p, name, num(row, key)));
+      }
     }
     ASSERT_FALSE(validate(p).has_value());
     const Trajectory t = simulate_release(p, make_geometry(p), num(row, "release"));
