@@ -6,6 +6,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace funnel {
@@ -216,10 +217,14 @@ std::optional<ParamError> validate(const Params& params) {
       return err;
     }
     // A subnormal theta (below ~1e-306 degrees) overflows the release line's half-width
-    // L = y_0 / tan(theta), which made every output NaN (found by fuzz/fuzz_parse).
-    if (!std::isfinite((params.release_height + y_bottom) / std::tan(rad))) {
+    // L = y_0 / tan(theta), which made every output NaN (found by fuzz/fuzz_parse). A spout
+    // raises y_0 by its length, and an asymmetric V adds the two walls' reaches: each is kept
+    // below a quarter of the largest double (found by fuzz/fuzz_physics, spout 1, 5e-307 degrees).
+    const double reach = (params.release_height + params.spout_length + y_bottom) / std::tan(rad);
+    if (!(reach < 0.25 * std::numeric_limits<double>::max())) {
       ParamError err = error(name, theta);
-      err.range = "0 < theta < 90 (degrees) with a finite half-width (H0 + y_b)/tan(theta) of the release line";
+      err.range = "0 < " + std::string(name) +
+                  " < 90 (degrees) with a finite half-width (H0 + spout-length + y_b)/tan(theta) of the release line";
       return err;
     }
   }

@@ -133,7 +133,8 @@ TEST_F(Mpi, BadInputIsReportedOnceAndEveryRankExitsWithCode2) {
 }
 
 TEST_F(Mpi, SweepStoppedUnderThreeRanksOrByAKilledRankResumesUnderTwoAndAlone) {
-  const std::string grid = "sweep --theta 5:85:1 --samples 4000 --out ";
+  // Long enough (about 5 s on one core) that the stop lands while points remain to be computed.
+  const std::string grid = "sweep --theta 5:85:1 --samples 20000 --out ";
   ASSERT_EQ(run(grid + path("full.csv") + " --threads 2").code, 0);
   int rows = 0;
   // 1) The whole job stopped (SIGTERM to mpirun: Ctrl-C, a batch system's time limit) under 3
