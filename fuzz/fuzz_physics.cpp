@@ -244,8 +244,7 @@ void check_trajectory(const Params& p, const funnel::Funnel& fn, const State& re
   // the clock (|t| ~ 1, ulp 2e-16) can tell the collisions apart.
   const Vec2 left_end = fn.sides[0].corners[0].point, right_end = fn.sides[1].corners[0].point;
   const double slot = fn.closed ? 1.0 : 0.5 * std::hypot(right_end.x - left_end.x, right_end.y - left_end.y) - p.radius;
-  const bool clock_slot = slot < 1e-12 * std::fmax(1.0, t.duration);
-  require(!t.stalled || clock_slot, "Zeno guard fired", t.duration, slot);
+  require(!t.stalled || slot < 1e-12 * std::fmax(1.0, t.duration), "Zeno guard fired", t.duration, slot);
   if (t.status == Status::Trapped && !t.stalled) {
     require(t.duration == p.t_max || t.collisions == p.max_collisions, "trapped before the caps", t.duration,
             static_cast<double>(t.collisions));
@@ -344,17 +343,19 @@ std::vector<Vec2> pick_wall(FuzzedDataProvider& f, Vec2 end, double sign) {
   return {up.rbegin(), up.rend()};
 }
 
-/// The mirror image x -> -x of a profile: the sides and their materials swapped.
-funnel::ProfileSpec mirror_profile(const funnel::ProfileSpec& spec) {
-  funnel::ProfileSpec m = spec;
-  for (int side = 0; side < 2; ++side) {
-    m.sides[side] = spec.sides[1 - side];
-    for (Vec2& v : m.sides[side]) v.x = 0.0 - v.x;
-    m.e[side] = spec.e[1 - side];
-    m.mu[side] = spec.mu[1 - side];
-    m.beta0[side] = spec.beta0[1 - side];
-  }
-  return m;
+/// One release of p (with `bins` wear bins): the invariants of check_trajectory; then, unless
+/// it is on the axis, the mirror release -fraction in `mirror` (p's mirror funnel, set by the
+/// caller) with the horizontal velocity and spin negated gives the mirror result. A release on
+/// the axis at rest is its own mirror image; a tie between the walls goes to the left one.
+void check_release(const Params& p, Params mirror, double fraction, int bins) {
+  const funnel::Funnel g = funnel::make_funnel(p);
+  funnel::EventLog log;
+  funnel::Wear wear = funnel::Wear::make(g, bins);
+  const Trajectory t = funnel::simulate_release(p, g, fraction, &log, &wear);
+  check_trajectory(p, g, funnel::release_state(p, g, fraction), t, log.events, wear);
+  mirror.release_u = 0.0 - p.release_u;
+  mirror.release_spin = 0.0 - p.release_spin;
+  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, funnel::make_funnel(mirror), -fraction));
 }
 
 /// A release in a random wall profile (docs/model.md §2b): walls of ledges, spouts, wedges and
@@ -369,11 +370,11 @@ void check_profile(FuzzedDataProvider& f, Params p) {
   const bool closed = f.ConsumeBool();
   const double half = closed ? 0.0 : p.radius * (1.0 + log_uniform(f, -12.0, 2.0));
   const double drop = f.ConsumeBool() ? 0.0 : uniform(f, -0.3, 0.3);  // the right lower end's height
-  spec->sides[0] = pick_wall(f, {-half, 0.0}, -1.0);
+  std::vector<Vec2> left = pick_wall(f, {-half, 0.0}, -1.0);
   if (f.ConsumeBool()) {
-    spec->sides[1] = spec->sides[0];
-    for (Vec2& v : spec->sides[1]) v.x = 0.0 - v.x;
+    *spec = funnel::mirrored_profile(std::move(left));
   } else {
+    spec->sides[0] = std::move(left);
     spec->sides[1] = pick_wall(f, {half, closed ? 0.0 : drop}, 1.0);
   }
   if (f.ConsumeBool()) {  // a material of its own for the right wall
@@ -394,16 +395,9 @@ void check_profile(FuzzedDataProvider& f, Params p) {
                 "--max-collisions %lld --release %.17g --release-height %.17g%s",
                 p.e, p.mu, p.beta0, p.inertia, p.radius, p.t_max, static_cast<long long>(p.max_collisions),
                 fraction, p.release_height, walls);
-  const funnel::Funnel g = funnel::make_funnel(p);
-  funnel::EventLog log;
-  funnel::Wear wear = funnel::Wear::make(g, 5);
-  const Trajectory t = funnel::simulate_release(p, g, fraction, &log, &wear);
-  check_trajectory(p, g, funnel::release_state(p, g, fraction), t, log.events, wear);
   Params mirror = p;
-  mirror.release_u = 0.0 - p.release_u;
-  mirror.release_spin = 0.0 - p.release_spin;
-  mirror.profile = std::make_shared<funnel::ProfileSpec>(mirror_profile(*spec));
-  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, funnel::make_funnel(mirror), -fraction));
+  mirror.profile = std::make_shared<funnel::ProfileSpec>(funnel::mirror_image(*spec));
+  check_release(p, mirror, fraction, 5);
 }
 
 }  // namespace
@@ -425,20 +419,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 p.theta, p.e, p.mu, p.beta0, p.inertia, p.radius, p.gap, p.t_max,
                 static_cast<long long>(p.max_collisions), fraction, p.release_height, p.release_u, p.release_v,
                 p.release_spin, p.left_angle(), p.right_angle(), p.spout_length);
-  const funnel::Funnel g = funnel::make_funnel(p);
-  funnel::EventLog log;
-  funnel::Wear wear = funnel::Wear::make(g, 7);
-  const Trajectory t = funnel::simulate_release(p, g, fraction, &log, &wear);
-  check_trajectory(p, g, funnel::release_state(p, g, fraction), t, log.events, wear);
-  // A release on the axis at rest is its own mirror image; a tie between the walls goes to the
-  // left one. The mirror release has its horizontal velocity and spin negated too.
-  Params mirror = p;
-  mirror.release_u = 0.0 - p.release_u;
-  mirror.release_spin = 0.0 - p.release_spin;
   // The mirror funnel of an asymmetric V swaps its walls' angles.
+  Params mirror = p;
   mirror.theta_left = p.theta_right;
   mirror.theta_right = p.theta_left;
-  if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, funnel::make_funnel(mirror), -fraction));
+  check_release(p, mirror, fraction, 7);
   // Inputs with bytes left over run a random wall profile too (consumed last, so that the
   // seeds of the V keep their meaning).
   if (f.remaining_bytes() > 0 && f.ConsumeBool()) check_profile(f, p);

@@ -173,4 +173,16 @@ ProfileSpec mirrored_profile(std::vector<Vec2> left) {
   return spec;
 }
 
+ProfileSpec mirror_image(const ProfileSpec& spec) {
+  ProfileSpec m = spec;
+  for (int side = 0; side < 2; ++side) {
+    m.sides[side] = spec.sides[1 - side];
+    for (Vec2& v : m.sides[side]) v.x = 0.0 - v.x;
+    m.e[side] = spec.e[1 - side];
+    m.mu[side] = spec.mu[1 - side];
+    m.beta0[side] = spec.beta0[1 - side];
+  }
+  return m;
+}
+
 }  // namespace funnel

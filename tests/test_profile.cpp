@@ -24,19 +24,6 @@ Params with_profile(ProfileSpec spec, Params p = default_params()) {
   return p;
 }
 
-/// The mirror image of a profile: sides swapped and x negated (materials swapped too).
-ProfileSpec mirror_of(const ProfileSpec& s) {
-  ProfileSpec m = s;
-  for (int i = 0; i < 2; ++i) {
-    m.sides[i] = s.sides[1 - i];
-    for (Vec2& v : m.sides[i]) v.x = 0.0 - v.x;
-    m.e[i] = s.e[1 - i];
-    m.mu[i] = s.mu[1 - i];
-    m.beta0[i] = s.beta0[1 - i];
-  }
-  return m;
-}
-
 /// A hopper: a shallow upper section (30 degrees) over a steep lower one (70 degrees, a convex
 /// corner), on the left; on the right a steep wall with a ledge (a concave corner above it).
 ProfileSpec hopper() {
@@ -69,7 +56,7 @@ TEST(Profile, AProfileIsTheMirrorImageOfItsMirror) {
   ProfileSpec s = hopper();
   s.mu[0] = 0.2;
   s.e[1] = 0.5;
-  const Params a = with_profile(s), b = with_profile(mirror_of(s));
+  const Params a = with_profile(s), b = with_profile(mirror_image(s));
   const Funnel fa = make_funnel(a), fb = make_funnel(b);
   ASSERT_FALSE(validate(a)) << validate(a)->message();
   for (const double x : {-0.8, -0.3, 0.1, 0.6}) {

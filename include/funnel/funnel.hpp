@@ -97,6 +97,9 @@ double drawing_top(const Funnel& f);
 /// A symmetric profile: `left` as given and its mirror image x -> -x as the right side.
 ProfileSpec mirrored_profile(std::vector<Vec2> left);
 
+/// The mirror image x -> -x of a profile: its sides and their materials swapped.
+ProfileSpec mirror_image(const ProfileSpec& spec);
+
 /// One wall as a geometry file or a Python dict gives it: its vertices (none on the right of a
 /// mirrored funnel) and its optional material.
 struct WallSpec {
