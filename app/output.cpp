@@ -64,6 +64,7 @@ nlohmann::ordered_json geometry_json(const Params& p) {
   j["closed"] = f.closed;
   j["symmetric"] = f.symmetric;
   j["y_exit"] = json_number(f.y_exit);
+  j["bottom"] = json_number(f.y_bottom);
   j["y_release"] = json_number(f.y_release);
   j["x_release_mid"] = json_number(f.x_release_mid);
   j["half_width"] = json_number(f.half_width);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -208,8 +210,84 @@ double inner_x(const Side& side, double y, double a) {
   return best;
 }
 
+/// `value` to 12 significant digits: the number a user typed, recovered from one computed from it.
+double typed(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.12g", value);
+  return std::strtod(text, nullptr);
+}
+
+/// The V (theta-left/right, gap, spout-length) a profile is, within rounding, if it is one
+/// (docs/model.md §2b, "A V given as a profile"): every vertex within 1e-13 of the V's (relative
+/// to the funnel's size), the top vertex on the V's wall line, the release measured from the V's
+/// edges, with angles, gap and spout length of at most 12 significant digits.
+std::optional<Params> v_of_profile(const ProfileSpec& spec, const Params& params) {
+  const std::vector<Vec2>& left = spec.sides[0];
+  const std::vector<Vec2>& right = spec.sides[1];
+  if (left.size() != right.size() || left.size() < 2 || left.size() > 3) return std::nullopt;
+  Params p = params;
+  p.profile.reset();
+  double angle[2];
+  for (const int i : {0, 1}) {
+    const Vec2 d = spec.sides[i][0] - spec.sides[i][1];
+    angle[i] = typed(std::atan2(d.y, std::fabs(d.x)) * 180.0 / std::numbers::pi);
+  }
+  p.theta = angle[0];
+  p.theta_left = Params::unset;
+  p.theta_right = angle[1] == angle[0] ? Params::unset : angle[1];
+  p.gap = typed(right[1].x - left[1].x);
+  p.spout_length = left.size() == 3 ? typed(left[1].y - left[2].y) : 0.0;
+  if (validate(p)) return std::nullopt;
+  const Funnel v = v_funnel(p);
+  double size = 1.0;
+  for (const std::vector<Vec2>& side : spec.sides) {
+    for (const Vec2 q : side) size = std::max({size, std::fabs(q.x), std::fabs(q.y)});
+  }
+  const double tol = 1e-13 * size;
+  const auto near = [tol](Vec2 q, Vec2 r) { return std::fabs(q.x - r.x) <= tol && std::fabs(q.y - r.y) <= tol; };
+  for (const int i : {0, 1}) {
+    const std::vector<Vec2>& given = spec.sides[i];
+    const Side& s = v.sides[i];
+    for (std::size_t k = 0; k < s.corners.size(); ++k) {
+      if (!near(given[given.size() - 1 - k], s.corners[k].point)) return std::nullopt;
+    }
+    const double off_line = dot(s.faces.back().n, given[0] - s.corners.back().point);
+    if (!(std::fabs(off_line) <= tol)) return std::nullopt;
+  }
+  const double bottom = spec.bottom.value_or(std::max(left.back().y, right.back().y));
+  if (!(std::fabs(bottom - v.y_bottom) <= tol)) return std::nullopt;
+  return p;
+}
+
+/// Each wall's material: the parameters', with what the profile gives for that wall instead.
+void apply_materials(Funnel& f, const ProfileSpec& spec, const Params& params) {
+  const Material base = material(params);
+  for (const int i : {0, 1}) {
+    Material& m = f.sides[i].material;
+    m = base;
+    m.e = spec.e[i].value_or(base.e);
+    m.mu = spec.mu[i].value_or(base.mu);
+    m.beta0 = spec.beta0[i].value_or(base.beta0);
+  }
+}
+
+bool same_material(const Funnel& f) {
+  const Material& ml = f.sides[0].material;
+  const Material& mr = f.sides[1].material;
+  return ml.e == mr.e && ml.mu == mr.mu && ml.beta0 == mr.beta0;
+}
+
 Funnel profile_funnel(const Params& params) {
   const ProfileSpec& spec = *params.profile;
+  if (const std::optional<Params> v = v_of_profile(spec, params)) {
+    // The V's own numbers, so that a V written out as a profile gives the V's results bit for bit.
+    Funnel f = v_funnel(*v);
+    f.source = spec.source.empty() ? "profile" : spec.source;
+    apply_materials(f, spec, params);
+    f.symmetric = f.symmetric && same_material(f);
+    finish(f, params);
+    return f;
+  }
   Funnel f;
   f.source = spec.source.empty() ? "profile" : spec.source;
   const double a = params.radius;
@@ -226,16 +304,8 @@ Funnel profile_funnel(const Params& params) {
     }
     bottom = meet(nrm[0], ref[0], nrm[1], ref[1]);
   }
-  const Material base = material(params);
-  for (const int i : {0, 1}) {
-    const double ws = i == 0 ? -1.0 : 1.0;
-    f.sides[i] = build_side(segs[i], ws, a, closed, bottom);
-    Material& m = f.sides[i].material;
-    m = base;
-    m.e = spec.e[i].value_or(base.e);
-    m.mu = spec.mu[i].value_or(base.mu);
-    m.beta0 = spec.beta0[i].value_or(base.beta0);
-  }
+  for (const int i : {0, 1}) f.sides[i] = build_side(segs[i], i == 0 ? -1.0 : 1.0, a, closed, bottom);
+  apply_materials(f, spec, params);
   f.y_bottom = spec.bottom.value_or(std::max(el.y, er.y));
   f.y_release = f.y_bottom + params.release_height;
   const double x_l = -inner_x(f.sides[0], f.y_release, a);
@@ -246,9 +316,7 @@ Funnel profile_funnel(const Params& params) {
   for (std::size_t k = 0; mirrored && k < spec.sides[0].size(); ++k) {
     mirrored = spec.sides[1][k].x == 0.0 - spec.sides[0][k].x && spec.sides[1][k].y == spec.sides[0][k].y;
   }
-  const Material& ml = f.sides[0].material;
-  const Material& mr = f.sides[1].material;
-  f.symmetric = mirrored && ml.e == mr.e && ml.mu == mr.mu && ml.beta0 == mr.beta0;
+  f.symmetric = mirrored && same_material(f);
   if (f.symmetric) f.x_release_mid = 0.0;  // exactly: x_l = -x_r
   finish(f, params);
   return f;

@@ -418,8 +418,9 @@ def geometry(geometry=None, **model):
         (L = y_0 / tan(theta)), y_face_end and x_face_end (C*, lower end of the face region;
         the left one is at -x_face_end). The lower edge points are (+-half_gap, y_bottom).
         For any funnel (also the V) also: source ("v" or the geometry's), symmetric (bool),
-        y_exit (the exit level), x_release_mid (middle of the release line: x0 = x_release_mid
-        + release * half_width) and walls {"left", "right"}: each wall's surface as (x, y)
+        y_exit (the exit level), bottom (the height release_height is measured from),
+        x_release_mid (middle of the release line: x0 = x_release_mid + release * half_width)
+        and walls {"left", "right"}: each wall's surface as (x, y)
         vertices from the top (0.1 above the release line) down to its lower end. With
         ``geometry`` (as for :func:`simulate`) the V's own entries describe the parameters' V.
     """

@@ -132,7 +132,7 @@ Params make_params(const std::map<std::string, double>& model, const py::object&
 }
 
 /// The funnel of a run, as the CLI's JSON "geometry": source, closed, symmetric, exit level,
-/// release line, the walls' surfaces (top down) and each wall's material.
+/// the height the release is measured from, release line, the walls' surfaces (top down) and each wall's material.
 py::dict geometry_record(const Params& params) {
   const funnel::Funnel f = funnel::make_funnel(params);
   py::dict d, walls, materials;
@@ -140,6 +140,7 @@ py::dict geometry_record(const Params& params) {
   d["closed"] = f.closed;
   d["symmetric"] = f.symmetric;
   d["y_exit"] = f.y_exit;
+  d["bottom"] = f.y_bottom;
   d["y_release"] = f.y_release;
   d["x_release_mid"] = f.x_release_mid;
   d["half_width"] = f.half_width;

@@ -48,6 +48,17 @@ def test_geometry_describes_the_walls_for_drawing():
     assert v["walls"]["left"][-2][1] - v["y_exit"] == pytest.approx(0.2, abs=1e-15)
 
 
+def test_a_v_written_out_as_its_vertices_is_the_v_bit_for_bit():
+    v = dict(theta_left=40, theta_right=50, spout_length=0.2)
+    g = funnel.geometry(**v)
+    profile = {"left": {"vertices": g["walls"]["left"]}, "right": {"vertices": g["walls"]["right"]},
+               "bottom": g["bottom"]}
+    a = funnel.ensemble(samples=300, per_sample=True, **v)
+    b = funnel.ensemble(samples=300, per_sample=True, geometry=profile)
+    assert np.array_equal(a["per_sample"]["duration"], b["per_sample"]["duration"])
+    assert np.array_equal(a["per_sample"]["exit_x"], b["per_sample"]["exit_x"])
+
+
 def test_sweeps_take_a_geometry_and_the_shortcuts():
     s = funnel.sweep(e=[0.5, 0.9], samples=40, geometry=HOPPER)
     assert s["e"].tolist() == [0.5, 0.9]
