@@ -232,12 +232,4 @@ Format to_format(const std::string& text) {
   throw UsageError("invalid format = '" + text + "': valid values are json, csv");
 }
 
-std::string number(double x) {
-  if (x == 0.0) x = 0.0;  // no "-0" in outputs
-  char buf[32];
-  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, x);
-  (void)ec;
-  return std::string(buf, ptr);
-}
-
 }  // namespace funnel::cli

@@ -11,15 +11,17 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/grid.hpp"
 #include "funnel/params.hpp"
+#include "funnel/paper/records.hpp"
 #include "output_file.hpp"
 
 namespace funnel::cli {
 
-/// Bad input: reported as "funnel: error: <message>" with exit code 2.
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+// The records the CLI writes (JSON, CSV, number texts) come from the paper module.
+using namespace funnel::paper;
+
+/// Bad input: reported as "funnel: error: <message>" with exit code 2 (the paper module's
+/// error, so that the figure definitions' messages reach the user alike).
+using UsageError = paper::InputError;
 
 /// The model options as given on the command line (text), keyed by parameter name.
 struct ModelOptions {
@@ -86,7 +88,5 @@ enum class Format { Json, Csv };
 /// Parses "json" or "csv"; throws UsageError.
 Format to_format(const std::string& text);
 
-/// Shortest text that reads back as the same double (17 significant digits at most).
-std::string number(double x);
 
 }  // namespace funnel::cli

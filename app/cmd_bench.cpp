@@ -9,7 +9,7 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/grid.hpp"
 #include "funnel/version.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 
 namespace funnel::cli {
 

@@ -7,7 +7,7 @@
 #include "funnel/closed.hpp"
 #include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 
 namespace funnel::cli {
 

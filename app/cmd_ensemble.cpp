@@ -6,7 +6,7 @@
 #include "commands.hpp"
 #include "funnel/ensemble.hpp"
 #include "mpi_run.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 #include "progress.hpp"
 #include "run3d.hpp"
 

@@ -4,7 +4,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "funnel/orbit.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 
 namespace funnel::cli {
 

@@ -17,8 +17,9 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "funnel/version.hpp"
-#include "output.hpp"
-#include "paper_figures.hpp"
+#include "funnel/paper/records.hpp"
+#include "funnel/paper/figures.hpp"
+#include "mpi_run.hpp"
 #include "progress.hpp"
 
 namespace funnel::cli {
@@ -185,7 +186,10 @@ struct PaperCommand {
     fs::create_directories(out, ec);
     if (ec || !fs::is_directory(out)) throw UsageError("invalid out = '" + out + "': cannot create the directory");
 
-    SweepCache cache;
+    // Ensembles spread over the MPI ranks when run under mpirun (docs/cluster.md).
+    SweepCache cache([](const std::vector<Params>& points, const EnsembleOptions& options, const Progress& progress) {
+      return distributed_sweep(points, options, progress);
+    });
     for (const FigureSpec& f : figs) request_sweeps(f, cache);
     std::cerr << "funnel paper: " << figs.size() << " figures, " << cache.size() << " ensembles of θ sweeps"
               << (quick ? " (quick preview)" : "") << "\n";

@@ -6,8 +6,8 @@
 #include "commands.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/retrace.hpp"
-#include "output.hpp"
-#include "retrace_output.hpp"
+#include "funnel/paper/records.hpp"
+#include "funnel/paper/retrace_records.hpp"
 
 namespace funnel::cli {
 

@@ -19,7 +19,7 @@
 #include "funnel/ensemble.hpp"
 #include "funnel/version.hpp"
 #include "mpi_run.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 #include "output3d.hpp"
 #include "run3d.hpp"
 #include "progress.hpp"

@@ -5,7 +5,7 @@
 #include "commands.hpp"
 #include "funnel/engine.hpp"
 #include "funnel/geometry.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 #include "run3d.hpp"
 
 namespace funnel::cli {

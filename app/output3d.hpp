@@ -9,9 +9,21 @@
 
 #include "funnel/engine3d.hpp"
 #include "funnel/ensemble3d.hpp"
+#include "funnel/paper/records.hpp"
 #include "funnel/params.hpp"
 
 namespace funnel::cli {
+
+// The 2D records of the same names, overloaded here with the 3D ones.
+using paper::ensemble_json;
+using paper::ensemble_row;
+using paper::event_json;
+using paper::event_row;
+using paper::param_columns;
+using paper::param_row;
+using paper::params_json;
+using paper::trajectory_json;
+using paper::trajectory_row;
 
 /// Every parameter of the space by its output key (3D: the 2D ones, release_w, release_spin_x,
 /// release_spin_y).

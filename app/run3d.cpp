@@ -2,7 +2,7 @@
 #include "run3d.hpp"
 
 #include "funnel/cone.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 #include "output3d.hpp"
 #include "progress.hpp"
 

@@ -161,7 +161,7 @@ TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
       {"fig07", "panel,theta,release,duration,status,collisions\n"},
       {"fig08", "panel,theta,time,kind,wall,x,y,u_before,v_before,omega_before,u_after,v_after,omega_after"},
       {"fig10", "theta,mod1,mod2,mod3,mod4,stable\n"},
-      {"fig11", "panel,mu,release,state,x1_over_L,x2_over_L\n"},
+      {"fig11", "panel,mu,release,state,x_last_over_L,x_prev_over_L\n"},
       {"fig12", "theta,mu,periodic_fraction\n"},
       {"fig13", "panel,theta,e,mu,beta0"},
       {"fig01", "name,x,y\n"},

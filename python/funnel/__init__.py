@@ -50,6 +50,7 @@ from ._api import (
     geometry,
     git_commit,
     orbit,
+    paper_figure,
     retrace,
     simulate,
     sweep,

@@ -557,3 +557,86 @@ def retrace(theta, max_bounces=6, scan_points=1000, turns="wall", radius=0.01, g
     _text_columns(result["orbits"], ("sequence", "turn"))
     _text_columns(result["windows"], ("sequence", "turn", "window"))
     return result
+
+
+def _paper_dir():
+    """The figure definitions: $FUNNEL_PAPER_DIR, else an installation's share/funnel/paper
+    (found above the package), else the source tree's paper/."""
+    if os.environ.get("FUNNEL_PAPER_DIR"):
+        return os.environ["FUNNEL_PAPER_DIR"]
+    here = os.path.dirname(os.path.abspath(__file__))
+    parent = os.path.dirname(here)
+    while parent != os.path.dirname(parent):
+        candidate = os.path.join(parent, "share", "funnel", "paper")
+        if os.path.isdir(candidate):
+            return candidate
+        parent = os.path.dirname(parent)
+    return _core().source_paper_dir
+
+
+def _csv_columns(text):
+    """The columns of a CSV text: float arrays where every value is a number, else lists of str."""
+    import csv
+    import io
+    rows = list(csv.reader(io.StringIO(text)))
+    columns = {}
+    for i, name in enumerate(rows[0] if rows else []):
+        values = [row[i] for row in rows[1:]]
+        try:
+            columns[name] = np.array([float(v) for v in values])
+        except ValueError:
+            columns[name] = values
+    return columns
+
+
+def paper_figure(figure, quick=False, threads=0, paper_dir=None, progress=False):
+    """The data of one figure of ``funnel paper`` and the check of the paper's claim on it,
+    computed by the same library module (the numbers are the CLI's, bit for bit).
+
+    Parameters
+    ----------
+    figure : str
+        A figure id ("fig03", "fig11", "figshape", ...: the names of paper/*.toml) or the path of
+        a figure definition (a TOML file, docs/paper.md).
+    quick : bool
+        The definition's [quick] preview (coarse grids, few samples), as ``funnel paper --quick``.
+    threads : int
+        Worker threads, 0 = all cores; results are bit-identical for any count.
+    paper_dir : str, optional
+        Where figure ids are looked up (default: $FUNNEL_PAPER_DIR, an installation's
+        share/funnel/paper, else the source tree's paper/).
+    progress : bool or callable
+        True: a progress bar (tqdm if installed); a callable gets (done, total). Ctrl-C is
+        honoured when the figure's computation ends.
+
+    Returns
+    -------
+    dict
+        id, kind, title, caption; ``csv``: the CSV text ``funnel paper`` writes to
+        ``<out>/<id>/<id>.csv``; ``columns``: that table as a dict (float arrays, lists of str
+        for text columns); ``check``: {"claim", "measured", "holds"}; ``meta``: the figure's
+        extra metadata (panels, ...), as in ``<id>.json``.
+
+    Examples
+    --------
+    >>> f = funnel.paper_figure("fig11", quick=True)
+    >>> f["check"]["holds"], f["columns"]["x_last_over_L"][:5]
+    """
+    import json
+    if _count("threads", threads) < 0:
+        raise ValueError(f"invalid threads = {threads}: valid range is an integer >= 0 (0 = all cores)")
+    figure = os.fspath(figure)
+    path = figure
+    if not figure.endswith(".toml"):
+        base = os.fspath(paper_dir) if paper_dir is not None else _paper_dir()
+        path = os.path.join(base, figure + ".toml")
+        if not os.path.isfile(path):
+            known = sorted(f[:-5] for f in os.listdir(base) if f.startswith("fig") and f.endswith(".toml")) \
+                if os.path.isdir(base) else []
+            raise ValueError(f"invalid figure = {figure!r}: no {path}; valid: {', '.join(known) or '(none found)'}")
+    result = _core().paper_figure(path, bool(quick), _count("threads", threads),
+                                  _progress_callback(progress, "paper " + os.path.basename(path)[:-5]))
+    result["columns"] = _csv_columns(result["csv"])
+    result["check"] = json.loads(result["check"])
+    result["meta"] = json.loads(result["meta"])
+    return result

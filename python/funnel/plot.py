@@ -410,7 +410,7 @@ def plot_eigenvalues(meta, columns):
 
 def closed_final_reach(columns):
     """Half the y range of Fig. 11: the largest |x_c/L| of the data plus 12%, at least 0.05."""
-    values = np.abs(np.concatenate([columns["x1_over_L"], columns["x2_over_L"]]))
+    values = np.abs(np.concatenate([columns["x_last_over_L"], columns["x_prev_over_L"]]))
     values = values[np.isfinite(values)]
     return max(0.05, 1.12 * float(values.max())) if len(values) else 1.0
 
@@ -437,7 +437,7 @@ def plot_closed_final(meta, columns):
             if not np.any(m):
                 continue
             x = np.concatenate([rows["release"][m]] * 2)
-            y = np.concatenate([rows["x1_over_L"][m], rows["x2_over_L"][m]])
+            y = np.concatenate([rows["x_last_over_L"][m], rows["x_prev_over_L"][m]])
             ax.scatter(x, y, s=1.5, c=color, marker="o", lw=0, label=label, rasterized=True)
         ax.set_xlim(-1, 1)
         ax.set_ylim(-reach, reach)

@@ -612,6 +612,7 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
 
 void bind_retrace(py::module_& m);  // bind_retrace.cpp
 void bind_3d(py::module_& m);       // bind_3d.cpp
+void bind_paper(py::module_& m);    // bind_paper.cpp
 
 PYBIND11_MODULE(_funnel, m) {
   m.doc() = "Compiled core of funnel (pybind11). Use the documented wrappers in the `funnel` package.";
@@ -648,4 +649,5 @@ PYBIND11_MODULE(_funnel, m) {
         py::arg("max_time"), py::arg("max_coll"), py::arg("window"), py::arg("slip_tol"), py::arg("height_tol"));
   bind_retrace(m);
   bind_3d(m);
+  bind_paper(m);
 }

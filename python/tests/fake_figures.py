@@ -169,7 +169,7 @@ def write_fake_dataset(outdir):
     meta = _meta("fig11", "closed_final", [(p, f"μ = {m:g}") for p, m in zip("abcd", mus)], "mu", [],
                  {"theta": 50.0, "e": 1.0, "beta0": 0.0, "gap": 0.0}, "two final states only", True)
     meta["caption"] = r"$x_c/L$ of the last two collisions against $x_0/L$, $\sqrt{H/g}$ and $\frac{2}{5} m a^2$."
-    dirs.append(_write(outdir, meta, ("panel", "mu", "release", "state", "x1_over_L", "x2_over_L"), rows))
+    dirs.append(_write(outdir, meta, ("panel", "mu", "release", "state", "x_last_over_L", "x_prev_over_L"), rows))
 
     rows = []
     for theta in (50, 60, 70):

@@ -216,7 +216,7 @@ def test_eigenvalue_legend_explains_dashes_and_equal_moduli_stay_visible(dataset
 def test_closed_final_y_range_fits_the_data(dataset):
     _, dirs = dataset
     meta, columns = plot.load_figure(next(d for d in dirs if d.name == "fig11"))
-    reach = float(np.max(np.abs(np.concatenate([columns["x1_over_L"], columns["x2_over_L"]]))))
+    reach = float(np.max(np.abs(np.concatenate([columns["x_last_over_L"], columns["x_prev_over_L"]]))))
     assert reach < 0.6
     fig = plot.plot_figure(meta, columns)
     for ax in fig.axes:

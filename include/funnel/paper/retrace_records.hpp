@@ -9,7 +9,7 @@
 
 #include "funnel/retrace.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 /// An orbit with the engine's return check (retrace::check_return) in the funnel it was found in.
 struct CheckedOrbit {
@@ -35,7 +35,7 @@ std::vector<std::string> window_row(const retrace::Window& w);
 nlohmann::ordered_json window_json(const retrace::Window& w);
 
 /// Parses --turns: "wall" or "wall,rest" (also "rest,wall", "all"); true if rest turns are wanted.
-/// Throws UsageError otherwise.
+/// Throws InputError otherwise.
 bool parse_turns(const std::string& text);
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

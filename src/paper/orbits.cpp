@@ -1,5 +1,5 @@
 // Figs. 1, 9, 14 and Fig. 2 explained: geometry, period-2 orbits and self-retracing orbits as figure data.
-#include "paper_orbits.hpp"
+#include "orbits.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,15 +7,14 @@
 #include <map>
 #include <set>
 
-#include "cli_common.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/orbit.hpp"
 #include "funnel/retrace.hpp"
-#include "output.hpp"
-#include "paper_util.hpp"
-#include "retrace_output.hpp"
+#include "funnel/paper/records.hpp"
+#include "util.hpp"
+#include "funnel/paper/retrace_records.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 namespace {
 
@@ -35,7 +34,7 @@ std::vector<double> setting_values(const FigureSpec& fig, const char* key, const
   const std::string text = node != nullptr ? node->value<std::string>().value_or(fallback) : fallback;
   std::string reason;
   const auto values = parse_values(text, reason);
-  if (!values) throw UsageError("invalid figure definition '" + fig.source + "': settings." + key + ": " + reason);
+  if (!values) throw InputError("invalid figure definition '" + fig.source + "': settings." + key + ": " + reason);
   return *values;
 }
 
@@ -85,7 +84,7 @@ RetraceSetup retrace_setup(const FigureSpec& fig, int threads) {
   RetraceSetup s;
   s.params = retrace::frictionless(panel_params(fig, fig.panels.front()));
   s.params.gap = setting(fig, "scan_gap", 0.0);
-  if (const auto err = validate(s.params)) throw UsageError("invalid figure definition '" + fig.source + "': " + err->message());
+  if (const auto err = validate(s.params)) throw InputError("invalid figure definition '" + fig.source + "': " + err->message());
   s.thetas = setting_values(fig, "theta", "30:85:0.05");
   s.options.max_bounces = static_cast<int>(setting(fig, "max_bounces", 6));
   s.options.scan_points = static_cast<int>(setting(fig, "scan_points", 1000));
@@ -451,4 +450,4 @@ FigureData retrace_windows(const FigureSpec& fig, const SweepCache& cache, int t
   return out;
 }
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

@@ -1,15 +1,14 @@
 // Where the walls wear (beyond the paper): ensembles with a wear record, as figure data.
-#include "paper_designer.hpp"
+#include "designer.hpp"
 
 #include <cmath>
 
-#include "cli_common.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/observables.hpp"
-#include "output.hpp"
-#include "paper_util.hpp"
+#include "funnel/paper/records.hpp"
+#include "util.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 FigureData wear_profiles(const FigureSpec& fig, int threads, const Progress& progress) {
   FigureData out;
@@ -71,4 +70,4 @@ FigureData wear_profiles(const FigureSpec& fig, int threads, const Progress& pro
   return out;
 }
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

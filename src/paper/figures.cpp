@@ -1,5 +1,5 @@
 // Data and claim checks of each kind of figure (see paper/*.toml and docs/paper.md).
-#include "paper_figures.hpp"
+#include "funnel/paper/figures.hpp"
 
 #include "funnel/observables.hpp"
 
@@ -8,18 +8,16 @@
 #include <cstdio>
 #include <set>
 
-#include "cli_common.hpp"
 #include "funnel/closed.hpp"
 #include "funnel/engine.hpp"
 #include "funnel/orbit.hpp"
-#include "output.hpp"
-#include "mpi_run.hpp"
-#include "paper_cone3d.hpp"
-#include "paper_designer.hpp"
-#include "paper_orbits.hpp"
-#include "paper_util.hpp"
+#include "funnel/paper/records.hpp"
+#include "cone3d.hpp"
+#include "designer.hpp"
+#include "orbits.hpp"
+#include "util.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 namespace {
 
@@ -148,7 +146,7 @@ double smoothness(const std::vector<Sample>& samples, double tol) {
   return samples.size() > 1 ? static_cast<double>(close) / static_cast<double>(samples.size() - 1) : 0.0;
 }
 
-FigureData release_scan(const FigureSpec& fig, int threads, const Progress& progress) {
+FigureData release_scan(const FigureSpec& fig, const SweepRunner& runner, int threads, const Progress& progress) {
   FigureData out;
   out.csv = csv_line({"panel", "theta", "release", "duration", "status", "collisions"});
   out.extra["panels"] = value_panels(fig.thetas, "θ", "°");
@@ -160,7 +158,7 @@ FigureData release_scan(const FigureSpec& fig, int threads, const Progress& prog
     const auto n = static_cast<std::int64_t>(fig.thetas.size());
     const auto k = static_cast<std::int64_t>(i);
     const EnsembleResult r = std::move(
-        distributed_sweep({p}, {fig.samples, dist_of(fig.dists.front()), threads, true}, [&](std::int64_t d, std::int64_t t) {
+        runner({p}, {fig.samples, dist_of(fig.dists.front()), threads, true}, [&](std::int64_t d, std::int64_t t) {
           if (progress) progress(k * t + d, n * t);
         }).front());
     const std::string panel(1, static_cast<char>('a' + i));
@@ -267,7 +265,7 @@ FigureData eigenvalue_figure(const FigureSpec& fig) {
 
 FigureData closed_final(const FigureSpec& fig, int threads, const Progress& progress) {
   FigureData out;
-  out.csv = csv_line({"panel", "mu", "release", "state", "x1_over_L", "x2_over_L"});
+  out.csv = csv_line({"panel", "mu", "release", "state", "x_last_over_L", "x_prev_over_L"});
   out.extra["panels"] = value_panels(fig.mus, "μ", "");
   std::int64_t undecided = 0, asymmetric = 0, periodic = 0, rest = 0;
   std::string fractions;
@@ -339,6 +337,14 @@ SweepCache::Key SweepCache::key(const Params& p, ReleaseDist dist, std::int64_t 
   return {k, static_cast<int>(dist), samples};
 }
 
+SweepCache::SweepCache(SweepRunner runner) : runner_(std::move(runner)) {
+  if (!runner_) {
+    runner_ = [](const std::vector<Params>& points, const EnsembleOptions& options, const Progress& progress) {
+      return run_sweep(points, options, progress);
+    };
+  }
+}
+
 void SweepCache::request(const Params& params, ReleaseDist dist, std::int64_t samples) {
   entries_.try_emplace(key(params, dist, samples), Entry{params, dist, samples, {}, false});
 }
@@ -356,7 +362,7 @@ void SweepCache::run(int threads, const Progress& progress) {
     for (const Entry* e : list) points.push_back(e->params);
     const EnsembleOptions opt{k.second, static_cast<ReleaseDist>(k.first), threads, false};
     const auto n = static_cast<std::int64_t>(list.size());
-    auto results = distributed_sweep(points, opt, [&](std::int64_t d, std::int64_t t) {
+    auto results = runner_(points, opt, [&](std::int64_t d, std::int64_t t) {
       if (progress) progress(done_points * t + d * n, total_points * t);
     });
     for (std::size_t i = 0; i < list.size(); ++i) {
@@ -410,7 +416,7 @@ void request_sweeps(const FigureSpec& fig, SweepCache& cache) {
 
 FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int threads, const Progress& progress) {
   if (fig.kind == "theta_sweep") return theta_sweep(fig, cache);
-  if (fig.kind == "release_scan") return release_scan(fig, threads, progress);
+  if (fig.kind == "release_scan") return release_scan(fig, cache.runner(), threads, progress);
   if (fig.kind == "trajectories") return trajectories(fig);
   if (fig.kind == "eigenvalues") return eigenvalue_figure(fig);
   if (fig.kind == "closed_final") return closed_final(fig, threads, progress);
@@ -421,7 +427,14 @@ FigureData compute_figure(const FigureSpec& fig, const SweepCache& cache, int th
   if (fig.kind == "retrace_windows") return retrace_windows(fig, cache, threads);
   if (fig.kind == "wear_profiles") return wear_profiles(fig, threads, progress);
   if (fig.kind == "cone_3d_sweep") return cone_3d_sweep(fig, threads, progress);
-  throw UsageError("invalid figure definition '" + fig.source + "': unknown kind '" + fig.kind + "'");
+  throw InputError("invalid figure definition '" + fig.source + "': unknown kind '" + fig.kind + "'");
 }
 
-}  // namespace funnel::cli
+FigureData compute_figure(const FigureSpec& fig, int threads, const Progress& progress) {
+  SweepCache cache;
+  request_sweeps(fig, cache);
+  cache.run(threads, progress);
+  return compute_figure(fig, cache, threads, progress);
+}
+
+}  // namespace funnel::paper

@@ -1,10 +1,9 @@
 // CSV and JSON renderings of self-retracing orbits and their windows.
-#include "retrace_output.hpp"
+#include "funnel/paper/retrace_records.hpp"
 
-#include "cli_common.hpp"
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 std::vector<CheckedOrbit> check_orbits(const Params& params, const std::vector<retrace::Orbit>& orbits) {
   std::vector<CheckedOrbit> out;
@@ -84,7 +83,7 @@ nlohmann::ordered_json window_json(const retrace::Window& w) {
 bool parse_turns(const std::string& text) {
   if (text == "wall") return false;
   if (text == "wall,rest" || text == "rest,wall" || text == "all") return true;
-  throw UsageError("invalid turns = '" + text + "': valid values are wall, wall,rest (or all)");
+  throw InputError("invalid turns = '" + text + "': valid values are wall, wall,rest (or all)");
 }
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

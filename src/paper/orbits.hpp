@@ -1,10 +1,10 @@
 // Figures built from the geometry and the orbit theories: Fig. 1, Fig. 9, Fig. 14 and Fig. 2 explained.
 #pragma once
 
-#include "paper_cases.hpp"
-#include "paper_figures.hpp"
+#include "funnel/paper/cases.hpp"
+#include "funnel/paper/figures.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 /// Fig. 1 (kind funnel_sketch): the funnel's points and symbols to scale, checked against their definitions.
 FigureData funnel_sketch(const FigureSpec& fig);
@@ -21,4 +21,4 @@ FigureData retrace_orbits(const FigureSpec& fig, int threads);
 /// orbits in the open funnel beside the measured mean duration, and which of its peaks they explain.
 FigureData retrace_windows(const FigureSpec& fig, const SweepCache& cache, int threads);
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

@@ -1,17 +1,19 @@
 // Loading the figure definitions of paper/*.toml.
-#include "paper_cases.hpp"
+#include "funnel/paper/cases.hpp"
 
 #include <algorithm>
 #include <filesystem>
 
-#include "cli_common.hpp"
+#include "funnel/ensemble.hpp"
+#include "funnel/paper/records.hpp"
 
-namespace funnel::cli {
+
+namespace funnel::paper {
 
 namespace {
 
 [[noreturn]] void fail(const std::string& file, const std::string& what) {
-  throw UsageError("invalid figure definition '" + file + "': " + what);
+  throw InputError("invalid figure definition '" + file + "': " + what);
 }
 
 double number_of(const toml::node& node, const std::string& file, const std::string& key) {
@@ -147,14 +149,16 @@ FigureSpec load_figure(const std::string& path, bool quick) {
     }
   }
   if (fig.samples < 1) fail(path, "samples must be >= 1");
-  for (const std::string& d : fig.dists) to_release_dist(d);
+  for (const std::string& d : fig.dists) {
+    if (!parse_release_dist(d)) fail(path, "unknown release_dist '" + d + "' (line, disk, uniform or gaussian)");
+  }
   return fig;
 }
 
 std::vector<FigureSpec> load_figures(const std::string& dir, bool quick) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw UsageError("invalid paper-dir = '" + dir + "': not a directory");
+  if (!fs::is_directory(dir, ec)) throw InputError("invalid paper-dir = '" + dir + "': not a directory");
   std::vector<std::string> files;
   for (const auto& entry : fs::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
@@ -173,4 +177,4 @@ Params panel_params(const FigureSpec& fig, const PanelSpec& panel) {
   return p;
 }
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

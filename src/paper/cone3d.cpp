@@ -1,19 +1,18 @@
 // The cone in 3D with random sideways release velocities (beyond the paper), as figure data.
-#include "paper_cone3d.hpp"
+#include "cone3d.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 
-#include "cli_common.hpp"
 #include "funnel/ensemble3d.hpp"
 #include "funnel/observables.hpp"
 #include "funnel/stats.hpp"
-#include "output.hpp"
-#include "paper_util.hpp"
+#include "funnel/paper/records.hpp"
+#include "util.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 namespace {
 
@@ -121,4 +120,4 @@ FigureData cone_3d_sweep(const FigureSpec& fig, int threads, const Progress& pro
   return out;
 }
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

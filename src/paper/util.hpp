@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "paper_cases.hpp"
+#include "funnel/paper/cases.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 /// A number with `digits` significant digits, for the checks' sentences.
 inline std::string fmt(double x, int digits = 4) {
@@ -47,4 +47,4 @@ inline nlohmann::ordered_json value_panels(const std::vector<double>& values, co
   return panels;
 }
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

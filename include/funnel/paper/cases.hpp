@@ -12,7 +12,7 @@
 #include "funnel/grid.hpp"
 #include "funnel/params.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 /// One panel of a figure: its id ("a"), label and the parameters it fixes.
 struct PanelSpec {
@@ -42,7 +42,7 @@ struct FigureSpec {
 };
 
 /// Reads one figure definition; with `quick`, the [quick] table overrides grids and samples.
-/// Throws UsageError naming the file and the key on any problem.
+/// Throws InputError naming the file and the key on any problem.
 FigureSpec load_figure(const std::string& path, bool quick);
 
 /// Every paper/fig*.toml of a directory, sorted by name.
@@ -51,4 +51,4 @@ std::vector<FigureSpec> load_figures(const std::string& dir, bool quick);
 /// Parameters of a panel: defaults, then the figure's fixed parameters, then the panel's.
 Params panel_params(const FigureSpec& fig, const PanelSpec& panel);
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

@@ -1,9 +1,11 @@
 // JSON and CSV renderings of parameters, trajectories, events, ensembles and wear, all driven
-// by the library's parameter and observable tables.
+// by the library's parameter and observable tables: what the CLI writes and the paper's figures
+// are made of.
 #pragma once
 
 #include <nlohmann/json.hpp>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,7 +14,17 @@
 #include "funnel/params.hpp"
 #include "funnel/wear.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
+
+/// Bad input from a user (a figure definition, an option's text): the CLI exits with code 2,
+/// Python raises ValueError. The message names what is wrong and the valid values.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Shortest text that reads back as the same double (17 significant digits at most); 0, not -0.
+std::string number(double x);
 
 /// Every parameter by its output key: {"theta": ..., "e": ..., ..., "eps_rest": ...}.
 nlohmann::ordered_json params_json(const Params& p);
@@ -53,4 +65,4 @@ std::vector<std::string> trajectory_row(const Trajectory& t);
 /// Joins fields with commas, ending with a newline.
 std::string csv_line(const std::vector<std::string>& fields);
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

@@ -1,14 +1,22 @@
 // JSON (nlohmann) and CSV renderings; doubles are written so that they read back bit for bit.
-#include "output.hpp"
+#include "funnel/paper/records.hpp"
 
+#include <charconv>
 #include <cmath>
 
-#include "cli_common.hpp"
 #include "funnel/funnel.hpp"
 #include "funnel/observables.hpp"
 #include "funnel/version.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
+
+std::string number(double x) {
+  if (x == 0.0) x = 0.0;  // no "-0" in outputs
+  char buf[32];
+  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  (void)ec;
+  return std::string(buf, ptr);
+}
 
 namespace {
 
@@ -250,4 +258,4 @@ std::string csv_line(const std::vector<std::string>& fields) {
   return line;
 }
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

@@ -3,10 +3,10 @@
 #pragma once
 
 #include "funnel/ensemble.hpp"
-#include "paper_cases.hpp"
-#include "paper_figures.hpp"
+#include "funnel/paper/cases.hpp"
+#include "funnel/paper/figures.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 /// Kind cone_3d_sweep: for each velocity_sd of [settings] velocity_sds (sqrt(gH)) and each angle
 /// of the [grid] theta axis, a 3D disk ensemble of the figure's (first panel's) parameters with
@@ -19,4 +19,4 @@ namespace funnel::cli {
 /// does not grow with velocity_sd (in the order listed).
 FigureData cone_3d_sweep(const FigureSpec& fig, int threads, const Progress& progress);
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper

@@ -2,10 +2,10 @@
 #pragma once
 
 #include "funnel/ensemble.hpp"
-#include "paper_cases.hpp"
-#include "paper_figures.hpp"
+#include "funnel/paper/cases.hpp"
+#include "funnel/paper/figures.hpp"
 
-namespace funnel::cli {
+namespace funnel::paper {
 
 /// Kind wear_profiles: per angle of `thetas`, the per-particle wear of a wall (collisions,
 /// normal and total impulse per unit length of wall) against the height above the funnel
@@ -13,4 +13,4 @@ namespace funnel::cli {
 /// particle just above and just below 45 degrees (the paper's anomaly, seen as wall wear).
 FigureData wear_profiles(const FigureSpec& fig, int threads, const Progress& progress);
 
-}  // namespace funnel::cli
+}  // namespace funnel::paper
