@@ -36,7 +36,7 @@ std::vector<double> theta_values() {
 
 struct BenchCommand {
   std::string threads = "1";
-  std::string samples = "40000";
+  std::string samples = "400000";
   std::string repeat = "5";
   std::string format = "text";
   std::string command_line;
@@ -75,10 +75,12 @@ struct BenchCommand {
         {"samples", n},
         {"threads", resolve_threads(n_threads)},
         {"wall_time_s", t_ens},
-        {"collisions", ens.total_collisions},
-        {"simulated_collisions", ens.simulated_collisions},
-        {"collisions_per_second", static_cast<double>(ens.total_collisions) / t_ens},
-        {"simulated_collisions_per_second", static_cast<double>(ens.simulated_collisions) / t_ens},
+        // The headline counts the collisions actually computed: a mirror-symmetric ensemble
+        // simulates one half of its releases and counts each twice (docs/performance.md).
+        {"computed_collisions_per_second", static_cast<double>(ens.simulated_collisions) / t_ens},
+        {"computed_collisions", ens.simulated_collisions},
+        {"collisions_with_mirror_images", ens.total_collisions},
+        {"collisions_with_mirror_images_per_second", static_cast<double>(ens.total_collisions) / t_ens},
         {"trajectories_per_second", static_cast<double>(n) / t_ens}};
     j["reference_sweep"] = {{"grid", "theta = 20:80:5, e = 0.99, mu = 1, beta0 = 0, N = 4000"},
                             {"points", points.size()},
@@ -101,10 +103,9 @@ struct BenchCommand {
     std::printf("reference ensemble  theta 60, e 0.99, mu 1, beta0 0, N %lld, %d thread(s)\n",
                 static_cast<long long>(n), e["threads"].get<int>());
     std::printf("  wall time                   %10.4f s\n", t_ens);
-    std::printf("  collisions                  %10lld  (%lld simulated: mirror halving)\n",
-                static_cast<long long>(ens.total_collisions), static_cast<long long>(ens.simulated_collisions));
-    std::printf("  collisions per second       %10.3e  (simulated: %.3e)\n", e["collisions_per_second"].get<double>(),
-                e["simulated_collisions_per_second"].get<double>());
+    std::printf("  computed collisions per second %10.3e  (headline)\n", e["computed_collisions_per_second"].get<double>());
+    std::printf("  computed collisions         %10lld  (%lld with the mirror images, not computed)\n",
+                static_cast<long long>(ens.simulated_collisions), static_cast<long long>(ens.total_collisions));
     std::printf("  trajectories per second     %10.3e\n", e["trajectories_per_second"].get<double>());
     std::printf("reference sweep     %s\n", s["grid"].get<std::string>().c_str());
     std::printf("  wall time, 1 thread         %10.4f s\n", t_sweep1);

@@ -93,12 +93,18 @@ double exit_time(const Funnel& f, const State& s) {
   return v >= 0.0 ? v + root : 2.0 * h / (root - v);
 }
 
-NextEvent next_event(const Funnel& f, const State& s, const FlightStart& start) {
+namespace {
+
+/// The event search. `OneFace`: each wall is one straight face over its outlet edge (the V):
+/// the loops then have a known trip count of one (the same arithmetic in the same order).
+template <bool OneFace>
+[[gnu::always_inline]] inline NextEvent search(const Funnel& f, const State& s, const FlightStart& start) {
   NextEvent ev{EventKind::Face, {}, never};
   const Face* hit_face = nullptr;
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     const Side& side = side_of(f, wall);
-    for (int k = 0; k < static_cast<int>(side.faces.size()); ++k) {
+    const int faces = OneFace ? 1 : static_cast<int>(side.faces.size());
+    for (int k = 0; k < faces; ++k) {
       const double t = face_time(f, s, {wall, k}, start);
       if (t < ev.dt) {
         ev = {EventKind::Face, {wall, k}, t};
@@ -119,7 +125,8 @@ NextEvent next_event(const Funnel& f, const State& s, const FlightStart& start) 
   const double window = ev.dt;
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     const Side& side = side_of(f, wall);
-    for (int k = 0; k < static_cast<int>(side.corners.size()); ++k) {
+    const int corners = OneFace ? 1 : static_cast<int>(side.corners.size());
+    for (int k = 0; k < corners; ++k) {
       if (!side.corners[k].convex) continue;
       const double t = edge_time(f, s, {wall, k}, start, window);
       if (t < ev.dt) ev = {EventKind::Edge, {wall, k}, t};
@@ -127,5 +134,17 @@ NextEvent next_event(const Funnel& f, const State& s, const FlightStart& start) 
   }
   return ev;
 }
+
+}  // namespace
+
+// Inlined into the event loop by link-time optimisation: measured 4-7% of the reference
+// ensemble's time (docs/performance.md, item 9). GCC warns that an out-of-line function may not
+// be inlinable; across files only LTO can, which is the point.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wattributes"
+[[gnu::always_inline]] NextEvent next_event(const Funnel& f, const State& s, const FlightStart& start) {
+  return f.one_face ? search<true>(f, s, start) : search<false>(f, s, start);
+}
+#pragma GCC diagnostic pop
 
 }  // namespace funnel

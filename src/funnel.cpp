@@ -122,6 +122,7 @@ void finish(Funnel& f, const Params& params) {
   }
   const Vec2 el = f.sides[0].corners[0].point, er = f.sides[1].corners[0].point;
   f.closed = f.sides[0].corners[0].bottom;
+  f.one_face = f.sides[0].faces.size() == 1 && f.sides[1].faces.size() == 1;
   f.y_exit = std::min(el.y, er.y);
 }
 

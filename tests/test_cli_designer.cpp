@@ -138,6 +138,18 @@ TEST_F(Cli, TheGeometryRecordOfAVAsAFileIsTheVBitForBit) {
   EXPECT_EQ(a.output, b.output);
 }
 
+TEST_F(Cli, BenchHeadlinesTheCollisionsActuallyComputed) {
+  const json b = parse(run("bench --samples 2000 --repeat 1 --format json"));
+  const json& e = b["reference_ensemble"];
+  const auto computed = e["computed_collisions"].get<std::int64_t>();
+  // The reference V is mirror symmetric: one half is computed, the other counted as its mirror.
+  EXPECT_EQ(2 * computed, e["collisions_with_mirror_images"].get<std::int64_t>());
+  EXPECT_GT(computed, 100000);
+  EXPECT_NEAR(e["computed_collisions_per_second"].get<double>() * e["wall_time_s"].get<double>(),
+              static_cast<double>(computed), 1e-6 * static_cast<double>(computed));
+  EXPECT_FALSE(e.contains("collisions_per_second"));  // no unlabelled mirrored count
+}
+
 TEST_F(Cli, TheVsShortcutsSweepAndAsymmetryIsNotHalved) {
   const json e = parse(run("ensemble --theta-left 40 --theta-right 50 --samples 200"));
   EXPECT_EQ(e["simulated_collisions"], e["total_collisions"]);  // not mirror symmetric: no halving

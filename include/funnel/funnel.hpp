@@ -66,6 +66,7 @@ struct Funnel {
   std::array<Side, 2> sides;    ///< 0 left, 1 right
   bool closed = false;          ///< the lower ends coincide: no outlet, rest at the bottom
   bool symmetric = false;       ///< the right wall is the exact mirror of the left one (and materials equal)
+  bool one_face = false;        ///< each wall is one straight face over its lower end (a V without a spout)
   double y_exit = 0.0;          ///< exit level: the lower of the two lower ends (crossed downward = exited)
   double y_bottom = 0.0;        ///< the funnel bottom: release-height is measured from it
   double y_release = 0.0;       ///< release height of the centre

@@ -22,6 +22,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -529,16 +530,41 @@ def figure_dirs(outdir):
                   if d.is_dir() and (d / f"{d.name}.json").is_file() and (d / f"{d.name}.csv").is_file())
 
 
-def render_all(outdir, log=None):
-    """Renders every figure of outdir and writes outdir/index.html; returns the index's path."""
+def _render_entry(figdir):
+    meta, paths = render(figdir)
+    return {"dir": Path(figdir).name, "meta": meta, "images": [p.name for p in paths]}, paths
+
+
+def render_all(outdir, log=None, jobs=None):
+    """Renders every figure of outdir and writes outdir/index.html; returns the index's path.
+
+    ``jobs`` figures are drawn at once in separate processes (default: the number of cores;
+    1 draws them one after the other in this process). Each picture is the same either way.
+    """
     from . import report
-    entries = []
-    for figdir in figure_dirs(outdir):
-        meta, paths = render(figdir)
-        entries.append({"dir": figdir.name, "meta": meta, "images": [p.name for p in paths]})
-        if log:
-            log(f"funnel.plot: wrote {', '.join(str(p) for p in paths)}")
-    return report.write_index(outdir, entries)
+    dirs = figure_dirs(outdir)
+    jobs = min(len(dirs), os.cpu_count() or 1) if jobs is None else int(jobs)
+    if jobs < 1:
+        raise ValueError(f"invalid jobs = {jobs}: valid range is an integer >= 1")
+    by_dir = {}
+    if jobs == 1 or len(dirs) < 2:
+        for figdir in dirs:
+            by_dir[figdir], paths = _render_entry(figdir)
+            if log:
+                log(f"funnel.plot: wrote {', '.join(str(p) for p in paths)}")
+    else:
+        import concurrent.futures
+        import multiprocessing
+
+        import matplotlib.figure  # noqa: F401  (imported once here, inherited by the forked workers)
+        context = multiprocessing.get_context("fork")
+        with concurrent.futures.ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+            futures = {pool.submit(_render_entry, figdir): figdir for figdir in dirs}
+            for done in concurrent.futures.as_completed(futures):
+                by_dir[futures[done]], paths = done.result()
+                if log:
+                    log(f"funnel.plot: wrote {', '.join(str(p) for p in paths)}")
+    return report.write_index(outdir, [by_dir[d] for d in dirs])
 
 
 def main(argv=None):
@@ -555,11 +581,15 @@ def main(argv=None):
         "One trajectory: python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png "
         "(see python -m funnel.plot trajectory --help); a directory named 'trajectory': ./trajectory."))
     parser.add_argument("outdir", help="directory with one subdirectory figNN/ per figure")
+    parser.add_argument("--jobs", type=int, default=None,
+                        help="figures drawn at once, in separate processes (default: the number of cores)")
     args = parser.parse_args(argv)
+    if args.jobs is not None and args.jobs < 1:
+        parser.error(f"invalid jobs = {args.jobs}: valid range is an integer >= 1")
     outdir = Path(args.outdir)
     if not outdir.is_dir():
         parser.error(f"invalid outdir = '{outdir}': not a directory")
-    index = render_all(outdir, log=lambda msg: print(msg, file=sys.stderr))
+    index = render_all(outdir, log=lambda msg: print(msg, file=sys.stderr), jobs=args.jobs)
     print(f"funnel.plot: wrote {index}", file=sys.stderr)
     return 0
 

@@ -66,6 +66,19 @@ def test_svg_output_is_reproducible(dataset, tmp_path):
     assert (copy / "fig10.svg").read_bytes() == (outdir / "fig10" / "fig10.svg").read_bytes()
 
 
+def test_figures_drawn_in_parallel_are_those_drawn_one_by_one(dataset, tmp_path):
+    # The dataset was drawn by main() with a process per core; drawn again here in this process.
+    outdir, dirs = dataset
+    serial = tmp_path / "serial"
+    shutil.copytree(outdir, serial)
+    plot.render_all(serial, jobs=1)
+    for d in dirs:
+        assert (serial / d.name / f"{d.name}.png").read_bytes() == (d / f"{d.name}.png").read_bytes(), d.name
+    assert (serial / "index.html").read_text() == (outdir / "index.html").read_text()
+    with pytest.raises(ValueError, match="invalid jobs = 0"):
+        plot.render_all(serial, jobs=0)
+
+
 def test_module_entry_point(tmp_path):
     write_fake_dataset(tmp_path)
     for d in list(tmp_path.iterdir()):
