@@ -24,9 +24,9 @@ bool on_region(const Face& face, Vec2 r) {
   return (!face.low_convex || s >= 0.0) && (!face.high_convex || s <= face.length);
 }
 
-}  // namespace
-
-double face_time(const Funnel& f, const State& s, WallPart part, const FlightStart& start) {
+/// When the centre reaches a face's centre line, before the check that it does so on the
+/// face's region (face_time without that check).
+double line_time(const Funnel& f, const State& s, WallPart part, const FlightStart& start) {
   if (start.skip_face == part) return never;  // tangent at the region's end: a zero-time hit otherwise (Zeno)
   const Face& face = face_of(f, part);
   const double p = dot(s.v, face.n);
@@ -38,11 +38,22 @@ double face_time(const Funnel& f, const State& s, WallPart part, const FlightSta
   if (delta0 < 0.0 && on_region(face, s.r)) delta0 = 0.0;
   // The distance is delta0 + p t - n_y t^2/2 (gravity's component along the normal is -n_y). A
   // vertical face (n_y = 0) is reached only by moving towards it.
-  const double t = face.n.y > 0.0 ? line_arrival_time(delta0, p, face.n.y)
-                   : p < 0.0      ? (delta0 > 0.0 ? -delta0 / p : 0.0)
-                                  : never;
-  if (t == never || (!face.low_convex && !face.high_convex)) return t;
-  return on_region(face, advance(s, t).r) ? t : never;
+  return face.n.y > 0.0 ? line_arrival_time(delta0, p, face.n.y)
+         : p < 0.0      ? (delta0 > 0.0 ? -delta0 / p : 0.0)
+                        : never;
+}
+
+/// The line is reached at time t (not never) on the face's region.
+bool reached_on_region(const Funnel& f, const State& s, WallPart part, double t) {
+  const Face& face = face_of(f, part);
+  return (!face.low_convex && !face.high_convex) || on_region(face, advance(s, t).r);
+}
+
+}  // namespace
+
+double face_time(const Funnel& f, const State& s, WallPart part, const FlightStart& start) {
+  const double t = line_time(f, s, part, start);
+  return t == never || reached_on_region(f, s, part, t) ? t : never;
 }
 
 double edge_time(const Funnel& f, const State& s, WallPart part, const FlightStart& start, double t_limit) {
@@ -101,14 +112,29 @@ template <bool OneFace>
 [[gnu::always_inline]] inline NextEvent search(const Funnel& f, const State& s, const FlightStart& start) {
   NextEvent ev{EventKind::Face, {}, never};
   const Face* hit_face = nullptr;
-  for (const Wall wall : {Wall::Left, Wall::Right}) {
-    const Side& side = side_of(f, wall);
-    const int faces = OneFace ? 1 : static_cast<int>(side.faces.size());
-    for (int k = 0; k < faces; ++k) {
-      const double t = face_time(f, s, {wall, k}, start);
-      if (t < ev.dt) {
-        ev = {EventKind::Face, {wall, k}, t};
-        hit_face = &side.faces[k];
+  if constexpr (OneFace) {
+    // The two faces' lines first, the region checked for the earlier one only (and for the
+    // other if it fails): the same event as checking both, the left face first on a tie.
+    const WallPart left{Wall::Left, 0}, right{Wall::Right, 0};
+    const double tl = line_time(f, s, left, start), tr = line_time(f, s, right, start);
+    const bool left_first = tl <= tr;
+    const WallPart first = left_first ? left : right, second = left_first ? right : left;
+    const double t1 = left_first ? tl : tr, t2 = left_first ? tr : tl;
+    if (t1 != never && reached_on_region(f, s, first, t1)) {
+      ev = {EventKind::Face, first, t1};
+    } else if (t2 != never && reached_on_region(f, s, second, t2)) {
+      ev = {EventKind::Face, second, t2};
+    }
+    if (ev.dt != never) hit_face = &face_of(f, ev.part);
+  } else {
+    for (const Wall wall : {Wall::Left, Wall::Right}) {
+      const Side& side = side_of(f, wall);
+      for (int k = 0; k < static_cast<int>(side.faces.size()); ++k) {
+        const double t = face_time(f, s, {wall, k}, start);
+        if (t < ev.dt) {
+          ev = {EventKind::Face, {wall, k}, t};
+          hit_face = &side.faces[k];
+        }
       }
     }
   }
