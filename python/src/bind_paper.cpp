@@ -3,12 +3,12 @@
 #include <pybind11/pybind11.h>
 
 #include <atomic>
-#include <optional>
 #include <string>
 
 #include "funnel/paper/cases.hpp"
 #include "funnel/paper/figures.hpp"
 #include "funnel/paper/records.hpp"
+#include "convert.hpp"
 
 namespace py = pybind11;
 
@@ -20,27 +20,15 @@ namespace {
 py::dict paper_figure(const std::string& path, bool quick, int threads, const py::object& progress) {
   funnel::paper::FigureSpec fig;
   funnel::paper::FigureData data;
-  std::optional<py::error_already_set> error;
-  std::atomic<bool> failed{false};
+  std::atomic<bool> cancel{false};  // the figure's runs do not watch it: Ctrl-C counts at the end
   try {
     fig = funnel::paper::load_figure(path, quick);
-    const funnel::Progress report = [&](std::int64_t done, std::int64_t total) {
-      if (failed.load()) return;
-      py::gil_scoped_acquire gil;
-      try {
-        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-        if (!progress.is_none()) progress(done, total);
-      } catch (py::error_already_set& e) {
-        error.emplace(std::move(e));
-        failed = true;
-      }
-    };
-    py::gil_scoped_release nogil;
-    data = funnel::paper::compute_figure(fig, threads, report);
+    funnel::py_convert::run_reporting(progress, cancel, [&](const funnel::Progress& report) {
+      data = funnel::paper::compute_figure(fig, threads, report);
+    });
   } catch (const funnel::paper::InputError& e) {
     throw py::value_error(e.what());
   }
-  if (error) throw *error;
   py::dict d;
   d["id"] = fig.id;
   d["kind"] = fig.kind;

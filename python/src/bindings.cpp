@@ -280,25 +280,11 @@ funnel::EnsembleOptions ensemble_options(std::int64_t samples, const std::string
 template <class Work>
 void run_interruptible(funnel::EnsembleOptions& options, const py::object& progress, Work work) {
   std::atomic<bool> cancel{false};
-  options.cancel = &cancel;
-  std::optional<py::error_already_set> error;  // Ctrl-C, or what the callback raised
-  const funnel::Progress report = [&](std::int64_t done, std::int64_t total) {
-    if (cancel.load()) return;
-    py::gil_scoped_acquire gil;
-    try {
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!progress.is_none()) progress(done, total);
-    } catch (py::error_already_set& e) {
-      error.emplace(std::move(e));
-      cancel = true;
-    }
-  };
-  {
-    py::gil_scoped_release nogil;
+  funnel::py_convert::run_reporting(progress, cancel, [&](const funnel::Progress& report) {
+    options.cancel = &cancel;
     work(report);
-  }
-  options.cancel = nullptr;
-  if (error) throw *error;
+    options.cancel = nullptr;
+  });
 }
 
 // ---------------------------------------------------------------------------------------------

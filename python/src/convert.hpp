@@ -1,11 +1,17 @@
-// Conversions shared by the binding files: numpy columns and lists of text.
+// Conversions shared by the binding files: numpy columns, lists of text, and long runs that
+// report progress to Python.
 #pragma once
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <string>
+
+#include "funnel/ensemble.hpp"
 
 namespace funnel::py_convert {
 
@@ -26,6 +32,31 @@ py::list text_column(std::size_t n, Get get) {
   py::list l;
   for (std::size_t i = 0; i < n; ++i) l.append(std::string(get(i)));
   return l;
+}
+
+/// Runs `work(report)` without the GIL; every call of `report(done, total)` goes to `progress`
+/// (a Python callable, or None) and checks for Ctrl-C. Ctrl-C, or an error the callback raises,
+/// sets `cancel` (work that watches it stops early; later reports are dropped) and is raised
+/// once `work` returns.
+template <class Work>
+void run_reporting(const py::object& progress, std::atomic<bool>& cancel, Work work) {
+  std::optional<py::error_already_set> error;
+  const funnel::Progress report = [&](std::int64_t done, std::int64_t total) {
+    if (cancel.load()) return;
+    py::gil_scoped_acquire gil;
+    try {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!progress.is_none()) progress(done, total);
+    } catch (py::error_already_set& e) {
+      error.emplace(std::move(e));
+      cancel = true;
+    }
+  };
+  {
+    py::gil_scoped_release nogil;
+    work(report);
+  }
+  if (error) throw *error;
 }
 
 }  // namespace funnel::py_convert
