@@ -5,7 +5,7 @@ set -euo pipefail
 
 FUNNEL_PACKAGES=(
   build-essential cmake git pkg-config
-  libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libboost-dev
+  libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libeigen3-dev libboost-dev libhwy-dev
   libgtest-dev libbenchmark-dev
   python3-dev pybind11-dev python3-numpy python3-matplotlib python3-pytest python3-tqdm
   python3-pil chromium  # GIF animations (funnel.animate); the report's test in a headless browser

@@ -1,14 +1,18 @@
 // The event loop of one trajectory (docs/model.md §3-7).
 #include "funnel/engine.hpp"
 
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
+#include "batch.hpp"
 #include "funnel/contact.hpp"
 #include "funnel/edge_contact.hpp"
 #include "funnel/wear.hpp"
 #include "funnel/roots.hpp"
+#include "funnel/simd.hpp"
 
 namespace funnel {
 
@@ -69,7 +73,13 @@ class Run {
   }
 
   Trajectory finish() {
-    loop();
+    while (!step()) {
+    }
+    return result();
+  }
+
+  /// The observables once the run has ended (step() returned true).
+  Trajectory result() {
     out_.final_state = state_;
     const double e_end = energy(state_, kappa_, radius_);
     out_.energy_loss = e0_ - e_end;
@@ -79,65 +89,75 @@ class Run {
     return out_;
   }
 
+  /// One event of the loop: the next event found, the flight to it and what it does. Returns
+  /// true once the run has ended.
+  bool step() {
+    const NextEvent ev = next_event(f_, state_, start_);
+    if (!(time_ + ev.dt <= params_.t_max)) {  // also catches dt = never (a closed funnel at rest)
+      state_ = advance(state_, std::fmin(params_.t_max - time_, 1e300));
+      end(Status::Trapped, params_.t_max);
+      return true;
+    }
+    const double before = time_;
+    state_ = advance(state_, ev.dt);
+    time_ += ev.dt;
+    stalled_ = time_ > before ? 0 : stalled_ + 1;
+    if (stalled_ > max_stalled_events) {
+      // In a closed funnel collisions pile up in no time only where the faces meet: they have
+      // collapsed onto the vertex (a wedge collapse; beta0 = 1 keeps the spin's energy above
+      // eps_rest), which is rest (found by fuzz/fuzz_physics). Elsewhere it is the Zeno guard.
+      out_.stalled = !f_.closed;
+      end(f_.closed ? Status::Rest : Status::Trapped, time_);
+      return true;
+    }
+    switch (ev.kind) {
+      case EventKind::Exit:
+        state_.r.y = f_.y_exit;
+        out_.exit_state = state_;
+        log_simple(EventKind::Exit, std::nullopt);
+        end(Status::Exited, time_);
+        return true;
+      case EventKind::Face:
+        start_ = face_collision(ev.part);
+        break;
+      case EventKind::Edge:
+        start_ = edge_collision(ev.part);
+        break;
+      default:
+        break;
+    }
+    if (done_) return true;
+    if (sink_ != nullptr && sink_->finished()) {
+      out_.stopped = true;
+      end(Status::Trapped, time_);
+      return true;
+    }
+    if (out_.collisions >= params_.max_collisions) {
+      end(Status::Trapped, time_);
+      return true;
+    }
+    if (f_.closed && energy(state_, kappa_, radius_) - y_rest_ < params_.eps_rest) {
+      end(Status::Rest, time_);  // the energy above the bottom has run out
+      return true;
+    }
+    return false;
+  }
+
+  /// The batched path's view of a run between its events (engine.cpp's simulate_batch copies
+  /// the lanes' common steps in and out through it).
+  struct Lane {
+    State* state;
+    double* time;
+    Trajectory* out;
+    FlightStart* start;
+    int* stalled;
+  };
+  Lane lane() { return {&state_, &time_, &out_, &start_, &stalled_}; }
+
  private:
   const Side& side(Wall w) const { return f_.sides[index_of(w)]; }
   const Face& face(WallPart p) const { return side(p.wall).faces[p.index]; }
   const Corner& corner(WallPart p) const { return side(p.wall).corners[p.index]; }
-
-  void loop() {
-    FlightStart start;
-    int stalled = 0;
-    for (;;) {
-      const NextEvent ev = next_event(f_, state_, start);
-      if (!(time_ + ev.dt <= params_.t_max)) {  // also catches dt = never (a closed funnel at rest)
-        state_ = advance(state_, std::fmin(params_.t_max - time_, 1e300));
-        end(Status::Trapped, params_.t_max);
-        return;
-      }
-      const double before = time_;
-      state_ = advance(state_, ev.dt);
-      time_ += ev.dt;
-      stalled = time_ > before ? 0 : stalled + 1;
-      if (stalled > max_stalled_events) {
-        // In a closed funnel collisions pile up in no time only where the faces meet: they have
-        // collapsed onto the vertex (a wedge collapse; beta0 = 1 keeps the spin's energy above
-        // eps_rest), which is rest (found by fuzz/fuzz_physics). Elsewhere it is the Zeno guard.
-        out_.stalled = !f_.closed;
-        end(f_.closed ? Status::Rest : Status::Trapped, time_);
-        return;
-      }
-      switch (ev.kind) {
-        case EventKind::Exit:
-          state_.r.y = f_.y_exit;
-          out_.exit_state = state_;
-          log_simple(EventKind::Exit, std::nullopt);
-          end(Status::Exited, time_);
-          return;
-        case EventKind::Face:
-          start = face_collision(ev.part);
-          break;
-        case EventKind::Edge:
-          start = edge_collision(ev.part);
-          break;
-        default:
-          break;
-      }
-      if (done_) return;
-      if (sink_ != nullptr && sink_->finished()) {
-        out_.stopped = true;
-        end(Status::Trapped, time_);
-        return;
-      }
-      if (out_.collisions >= params_.max_collisions) {
-        end(Status::Trapped, time_);
-        return;
-      }
-      if (f_.closed && energy(state_, kappa_, radius_) - y_rest_ < params_.eps_rest) {
-        end(Status::Rest, time_);  // the energy above the bottom has run out
-        return;
-      }
-    }
-  }
 
   void end(Status status, double time) {
     out_.status = status;
@@ -416,6 +436,8 @@ class Run {
   double e0_ = 0.0;
   bool done_ = false;
   Trajectory out_;
+  FlightStart start_;  // how the current flight began
+  int stalled_ = 0;    // consecutive events without an advance of time
 };
 
 }  // namespace
@@ -427,6 +449,123 @@ Trajectory simulate(const Params& params, const Funnel& f, const State& initial,
 Trajectory simulate(const Params& params, const Geometry&, const State& initial, EventSink* sink, Wear* wear) {
   const Funnel f = make_funnel(params);
   return simulate(params, f, initial, sink, wear);
+}
+
+namespace {
+
+/// The batched path runs a funnel whose walls are one straight face each, the top face of its
+/// wall (a V without a spout), open at the bottom.
+bool batchable(const Funnel& f) {
+  if (!f.one_face || f.closed) return false;
+  for (const Side& s : f.sides) {
+    if (s.faces.size() != 1 || !s.faces[0].low_convex || s.faces[0].high_convex || !(s.faces[0].n.y > 0.0)) return false;
+  }
+  return true;
+}
+
+batch::Constants batch_constants(const Params& params, const Funnel& f) {
+  batch::Constants k{};
+  for (int i = 0; i < 2; ++i) {
+    const Face& fc = f.sides[i].faces[0];
+    const CollisionConstants& law = f.sides[i].law;
+    k.side[i] = {fc.n.x,  fc.n.y,  fc.ref.x, fc.ref.y, fc.low.x, fc.low.y, fc.up.x, fc.up.y,
+                 fc.low.y >= f.skip_height ? 1.0 : 0.0,
+                 law.e, law.mu, law.one_plus_e, law.slide_factor, law.one_plus_beta0, law.reduced, law.kappa_a,
+                 law.half_1_minus_e2, law.half_reduced, law.radius};
+  }
+  k.skip_height = f.skip_height;
+  k.t_max = params.t_max;
+  k.p_c = params.p_c;
+  k.max_collisions = static_cast<double>(params.max_collisions);
+  return k;
+}
+
+/// The lanes' code of how a run's flight began.
+double start_code(const FlightStart& s) {
+  if (s.on_edge.has_value() || s.slow_edge.has_value() || s.skip_face.has_value() || s.skip_edge.has_value()) {
+    return batch::start_other;
+  }
+  if (!s.on_face.has_value()) return batch::start_fresh;
+  if (s.on_face == WallPart{Wall::Left, 0}) return batch::start_left;
+  if (s.on_face == WallPart{Wall::Right, 0}) return batch::start_right;
+  return batch::start_other;
+}
+
+void to_lane(Run::Lane r, batch::Lanes& l, int i) {
+  l.rx[i] = r.state->r.x;
+  l.ry[i] = r.state->r.y;
+  l.vx[i] = r.state->v.x;
+  l.vy[i] = r.state->v.y;
+  l.omega[i] = r.state->omega;
+  l.time[i] = *r.time;
+  l.impulse[i] = r.out->impulse;
+  l.normal_impulse[i] = r.out->normal_impulse;
+  l.energy_loss[i] = r.out->energy_loss_events;
+  l.collisions[i] = static_cast<double>(r.out->collisions);
+  l.start[i] = start_code(*r.start);
+}
+
+void from_lane(const batch::Lanes& l, int i, Run::Lane r) {
+  const auto collisions = static_cast<std::int64_t>(l.collisions[i]);
+  if (collisions == r.out->collisions) return;  // not stepped in the lanes since it left them
+  r.state->r = {l.rx[i], l.ry[i]};
+  r.state->v = {l.vx[i], l.vy[i]};
+  r.state->omega = l.omega[i];
+  *r.time = l.time[i];
+  r.out->impulse = l.impulse[i];
+  r.out->normal_impulse = l.normal_impulse[i];
+  r.out->energy_loss_events = l.energy_loss[i];
+  r.out->collisions = collisions;
+  *r.start = FlightStart{};
+  if (l.start[i] == batch::start_left) r.start->on_face = WallPart{Wall::Left, 0};
+  if (l.start[i] == batch::start_right) r.start->on_face = WallPart{Wall::Right, 0};
+  *r.stalled = 0;  // every step in the lanes advanced time
+}
+
+}  // namespace
+
+void simulate_many(const Params& params, const Funnel& f, std::span<const State> initial, std::span<Trajectory> out) {
+  const int width = simd_lanes();
+  if (width <= 1 || !batchable(f) || initial.size() < 2) {
+    for (std::size_t k = 0; k < initial.size(); ++k) out[k] = simulate(params, f, initial[k]);
+    return;
+  }
+  const batch::Constants constants = batch_constants(params, f);
+  batch::Lanes lanes{};
+  std::array<std::optional<Run>, batch::max_lanes> runs;
+  std::array<std::size_t, batch::max_lanes> sample{};
+  std::size_t next = 0;
+  // A lane takes the next trajectory, or goes idle.
+  auto fill = [&](int i) {
+    if (next == initial.size()) {
+      runs[i].reset();
+      lanes.start[i] = batch::start_idle;
+      return;
+    }
+    sample[i] = next;
+    runs[i].emplace(params, f, initial[next], nullptr, nullptr);
+    ++next;
+    to_lane(runs[i]->lane(), lanes, i);
+  };
+  for (int i = 0; i < batch::max_lanes; ++i) lanes.start[i] = batch::start_idle;
+  for (int i = 0; i < width; ++i) fill(i);
+  for (;;) {
+    std::uint32_t need = batch::face_steps(constants, lanes);
+    if (need == 0) break;  // every lane idle
+    // The scalar engine takes each lane's uncommon event, then the lanes go on.
+    while (need != 0) {
+      const int i = std::countr_zero(need);
+      need &= need - 1;
+      Run& run = *runs[i];
+      from_lane(lanes, i, run.lane());
+      if (run.step()) {
+        out[sample[i]] = run.result();
+        fill(i);
+      } else {
+        to_lane(run.lane(), lanes, i);
+      }
+    }
+  }
 }
 
 State release_state(const Params& params, const Funnel& f, double fraction) {

@@ -200,11 +200,23 @@ ChunkStats compute_chunk(const Params& params, const Funnel& g, const EnsembleOp
   Wear wear = Wear::make(g, options.wear_bins);
   stats.wear = wear;
   if (options.keep_samples) stats.samples.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, last - first)));
+  // Without a wear record the chunk's trajectories run together (on the batched path of a V);
+  // they are added in index order either way.
+  const bool together = options.wear_bins == 0;
+  std::vector<State> releases;
+  std::vector<Trajectory> runs;
+  if (together) {
+    releases.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, last - first)));
+    for (std::int64_t k = first; k < last; ++k) releases.push_back(sample_release(params, g, options, k));
+    runs.resize(releases.size());
+    simulate_many(params, g, releases, runs);
+  }
   for (std::int64_t k = first; k < last; ++k) {
     const double fraction = sample_fraction(options, k);
-    const State release = sample_release(params, g, options, k);
+    const auto index = static_cast<std::size_t>(k - first);
+    const State release = together ? releases[index] : sample_release(params, g, options, k);
     if (options.wear_bins > 0) wear = Wear::make(g, options.wear_bins);
-    const Trajectory t = simulate(params, g, release, nullptr, options.wear_bins > 0 ? &wear : nullptr);
+    const Trajectory t = together ? runs[index] : simulate(params, g, release, nullptr, &wear);
     const std::int64_t partner = halved ? n - 1 - k : k;
     add(stats, t);
     stats.simulated_collisions += t.collisions;

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -91,6 +92,11 @@ Trajectory simulate(const Params& params, const Funnel& f, const State& initial,
 /// callers of the paper's V).
 Trajectory simulate(const Params& params, const Geometry& g, const State& initial, EventSink* sink = nullptr,
                     Wear* wear = nullptr);
+
+/// Runs the trajectories from each initial state: out[k] is simulate(params, f, initial[k]), bit
+/// for bit. The trajectories of a V without a spout run together in the lanes of a SIMD vector
+/// (funnel/simd.hpp); those of any other funnel one at a time. out.size() >= initial.size().
+void simulate_many(const Params& params, const Funnel& f, std::span<const State> initial, std::span<Trajectory> out);
 
 /// The release state at X = fraction on the release line (fraction in (-1, 1)), with the
 /// parameters' release velocity and spin.

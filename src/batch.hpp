@@ -1,0 +1,60 @@
+// The batched face-to-face step (internal to the library): many trajectories of one V funnel in
+// the lanes of a SIMD vector. See src/batch.cpp for the kernel and src/engine.cpp for the driver.
+#pragma once
+
+#include <cstdint>
+
+namespace funnel::batch {
+
+/// Lanes of the widest vector of doubles any path uses (AVX-512: 8), with room to spare.
+inline constexpr int max_lanes = 16;
+
+/// Codes of how a lane's current flight began (the scalar engine's FlightStart), as doubles.
+inline constexpr double start_fresh = -1.0;  ///< nothing set (a release)
+inline constexpr double start_left = 0.0;    ///< on the left face's centre line only
+inline constexpr double start_right = 1.0;   ///< on the right face's centre line only
+inline constexpr double start_other = 2.0;   ///< anything else: the scalar engine steps it
+inline constexpr double start_idle = 3.0;    ///< no trajectory in this lane
+
+/// One wall's face and collision law, as the scalar engine reads them.
+struct SideConstants {
+  double nx, ny, refx, refy, lowx, lowy, upx, upy;
+  double low_ok;  ///< 1 if the face's lower end is at or above the skip height, else 0
+  double e, mu, one_plus_e, slide_factor, one_plus_beta0, reduced, kappa_a, half_1_minus_e2, half_reduced,
+      radius;
+};
+
+/// Everything the common step needs besides the lanes.
+struct Constants {
+  SideConstants side[2];  ///< left, right
+  double skip_height;     ///< a flight starting above it meets no edge and no exit
+  double t_max, p_c, max_collisions;
+};
+
+/// The lanes' state, structure of arrays.
+struct Lanes {
+  alignas(64) double rx[max_lanes];
+  alignas(64) double ry[max_lanes];
+  alignas(64) double vx[max_lanes];
+  alignas(64) double vy[max_lanes];
+  alignas(64) double omega[max_lanes];
+  alignas(64) double time[max_lanes];
+  alignas(64) double impulse[max_lanes];
+  alignas(64) double normal_impulse[max_lanes];
+  alignas(64) double energy_loss[max_lanes];
+  alignas(64) double collisions[max_lanes];
+  alignas(64) double start[max_lanes];  ///< start_* codes
+};
+
+/// Steps every busy lane through flight and face collision for as long as each lane's next event
+/// is the common one: a face-to-face flight above the edges, ending in a collision that leaves
+/// a normal speed of at least p_c, within the time and collision caps. Returns the bit mask of
+/// busy lanes whose next event is not (they were not stepped by the last round): the scalar
+/// engine takes them. Lanes [0, width()) are used. Every operation is the scalar engine's, in
+/// its order (IEEE-exact in each lane), so the results are the same bits.
+std::uint32_t face_steps(const Constants& k, Lanes& lanes);
+
+/// Lanes of the path in use (1 for the scalar engine).
+int width();
+
+}  // namespace funnel::batch
