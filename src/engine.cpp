@@ -505,9 +505,11 @@ void to_lane(Run::Lane r, batch::Lanes& l, int i) {
   l.start[i] = start_code(*r.start);
 }
 
-void from_lane(const batch::Lanes& l, int i, Run::Lane r) {
+/// Copies lane i back into its run; returns the collisions the lane computed since it was filled.
+std::int64_t from_lane(const batch::Lanes& l, int i, Run::Lane r) {
   const auto collisions = static_cast<std::int64_t>(l.collisions[i]);
-  if (collisions == r.out->collisions) return;  // not stepped in the lanes since it left them
+  const std::int64_t stepped = collisions - r.out->collisions;
+  if (stepped == 0) return 0;  // not stepped in the lanes since it left them
   r.state->r = {l.rx[i], l.ry[i]};
   r.state->v = {l.vx[i], l.vy[i]};
   r.state->omega = l.omega[i];
@@ -520,16 +522,19 @@ void from_lane(const batch::Lanes& l, int i, Run::Lane r) {
   if (l.start[i] == batch::start_left) r.start->on_face = WallPart{Wall::Left, 0};
   if (l.start[i] == batch::start_right) r.start->on_face = WallPart{Wall::Right, 0};
   *r.stalled = 0;  // every step in the lanes advanced time
+  return stepped;
 }
 
 }  // namespace
 
-void simulate_many(const Params& params, const Funnel& f, std::span<const State> initial, std::span<Trajectory> out) {
+std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
+                           std::span<Trajectory> out) {
   const int width = simd_lanes();
   if (width <= 1 || !batchable(f) || initial.size() < 2) {
     for (std::size_t k = 0; k < initial.size(); ++k) out[k] = simulate(params, f, initial[k]);
-    return;
+    return 0;
   }
+  std::int64_t in_lanes = 0;
   const batch::Constants constants = batch_constants(params, f);
   batch::Lanes lanes{};
   std::array<std::optional<Run>, batch::max_lanes> runs;
@@ -551,13 +556,13 @@ void simulate_many(const Params& params, const Funnel& f, std::span<const State>
   for (int i = 0; i < width; ++i) fill(i);
   for (;;) {
     std::uint32_t need = batch::face_steps(constants, lanes);
-    if (need == 0) break;  // every lane idle
+    if (need == 0) return in_lanes;  // every lane idle
     // The scalar engine takes each lane's uncommon event, then the lanes go on.
     while (need != 0) {
       const int i = std::countr_zero(need);
       need &= need - 1;
       Run& run = *runs[i];
-      from_lane(lanes, i, run.lane());
+      in_lanes += from_lane(lanes, i, run.lane());
       if (run.step()) {
         out[sample[i]] = run.result();
         fill(i);

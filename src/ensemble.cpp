@@ -191,17 +191,18 @@ std::pair<std::int64_t, std::int64_t> chunk_range(bool halved, std::int64_t n, s
   return {chunk * n_unique / chunks, (chunk + 1) * n_unique / chunks};
 }
 
-/// One chunk, its samples in index order (the one computation behind run_chunk and run_sweep).
-ChunkStats compute_chunk(const Params& params, const Funnel& g, const EnsembleOptions& options, bool halved,
-                         std::int64_t chunk) {
+/// Samples a task runs together at least (several chunks of one point when chunks are small):
+/// enough to keep the lanes of the batched path busy as trajectories end (src/engine.cpp).
+constexpr std::int64_t min_batch = 128;
+
+/// Chunks [c0, c1) of one point, each with its samples in index order (the one computation
+/// behind run_chunk and run_sweep). Without a wear record their trajectories run together
+/// (simulate_many: the batched path of a V); each chunk's statistics are the same either way.
+std::vector<ChunkStats> compute_chunks(const Params& params, const Funnel& g, const EnsembleOptions& options,
+                                       bool halved, std::int64_t c0, std::int64_t c1) {
   const std::int64_t n = options.samples;
-  const auto [first, last] = chunk_range(halved, n, chunk);
-  ChunkStats stats;
-  Wear wear = Wear::make(g, options.wear_bins);
-  stats.wear = wear;
-  if (options.keep_samples) stats.samples.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, last - first)));
-  // Without a wear record the chunk's trajectories run together (on the batched path of a V);
-  // they are added in index order either way.
+  const std::int64_t first = chunk_range(halved, n, c0).first;
+  const std::int64_t last = chunk_range(halved, n, c1 - 1).second;
   const bool together = options.wear_bins == 0;
   std::vector<State> releases;
   std::vector<Trajectory> runs;
@@ -211,23 +212,36 @@ ChunkStats compute_chunk(const Params& params, const Funnel& g, const EnsembleOp
     runs.resize(releases.size());
     simulate_many(params, g, releases, runs);
   }
-  for (std::int64_t k = first; k < last; ++k) {
-    const double fraction = sample_fraction(options, k);
-    const auto index = static_cast<std::size_t>(k - first);
-    const State release = together ? releases[index] : sample_release(params, g, options, k);
-    if (options.wear_bins > 0) wear = Wear::make(g, options.wear_bins);
-    const Trajectory t = together ? runs[index] : simulate(params, g, release, nullptr, &wear);
-    const std::int64_t partner = halved ? n - 1 - k : k;
-    add(stats, t);
-    stats.simulated_collisions += t.collisions;
-    stats.wear.merge(wear);
-    if (partner != k) {
-      add(stats, mirrored(t));
-      stats.wear.merge(wear.mirrored());
+  std::vector<ChunkStats> out(static_cast<std::size_t>(c1 - c0));
+  for (std::int64_t chunk = c0; chunk < c1; ++chunk) {
+    const auto [begin, end] = chunk_range(halved, n, chunk);
+    ChunkStats& stats = out[static_cast<std::size_t>(chunk - c0)];
+    Wear wear = Wear::make(g, options.wear_bins);
+    stats.wear = wear;
+    if (options.keep_samples) stats.samples.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, end - begin)));
+    for (std::int64_t k = begin; k < end; ++k) {
+      const double fraction = sample_fraction(options, k);
+      const auto index = static_cast<std::size_t>(k - first);
+      const State release = together ? releases[index] : sample_release(params, g, options, k);
+      if (options.wear_bins > 0) wear = Wear::make(g, options.wear_bins);
+      const Trajectory t = together ? runs[index] : simulate(params, g, release, nullptr, &wear);
+      const std::int64_t partner = halved ? n - 1 - k : k;
+      add(stats, t);
+      stats.simulated_collisions += t.collisions;
+      stats.wear.merge(wear);
+      if (partner != k) {
+        add(stats, mirrored(t));
+        stats.wear.merge(wear.mirrored());
+      }
+      if (options.keep_samples) stats.samples.push_back({fraction, release, t});
     }
-    if (options.keep_samples) stats.samples.push_back({fraction, release, t});
   }
-  return stats;
+  return out;
+}
+
+ChunkStats compute_chunk(const Params& params, const Funnel& g, const EnsembleOptions& options, bool halved,
+                         std::int64_t chunk) {
+  return std::move(compute_chunks(params, g, options, halved, chunk, chunk + 1).front());
 }
 
 }  // namespace
@@ -300,9 +314,13 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
     funnels.push_back(make_funnel(p));
     mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
   }
-  // The same partition for every point; a task is one chunk of one point.
+  // The same partition for every point; a task is a group of consecutive chunks of one point
+  // (one chunk unless chunks are smaller than min_batch samples).
   const std::int64_t n_chunks = chunk_count(options.samples);
-  const std::int64_t n_tasks = n_points * n_chunks;
+  const std::int64_t per_chunk = std::max<std::int64_t>(1, options.samples / 2 / n_chunks);
+  const std::int64_t group = std::min(n_chunks, (min_batch + per_chunk - 1) / per_chunk);
+  const std::int64_t n_groups = (n_chunks + group - 1) / group;
+  const std::int64_t n_tasks = n_points * n_groups;
 
   std::vector<EnsembleResult> results(points.size());
   std::vector<std::vector<ChunkStats>> chunks(points.size());  // of the points in progress only
@@ -312,15 +330,17 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t task = 0; task < n_tasks; ++task) {
     if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
-    const auto point = static_cast<std::size_t>(task / n_chunks);
-    const std::int64_t chunk = task % n_chunks;
-    ChunkStats stats = compute_chunk(points[point], funnels[point], options, mirror[point] != 0, chunk);
+    const auto point = static_cast<std::size_t>(task / n_groups);
+    const std::int64_t c0 = (task % n_groups) * group;
+    const std::int64_t c1 = std::min(n_chunks, c0 + group);
+    std::vector<ChunkStats> stats = compute_chunks(points[point], funnels[point], options, mirror[point] != 0, c0, c1);
 #pragma omp critical(funnel_sweep)
     {
       std::vector<ChunkStats>& mine = chunks[point];
       if (mine.empty()) mine.resize(static_cast<std::size_t>(n_chunks));
-      mine[static_cast<std::size_t>(chunk)] = std::move(stats);
-      if (--pending[point] == 0) {
+      for (std::int64_t c = c0; c < c1; ++c) mine[static_cast<std::size_t>(c)] = std::move(stats[static_cast<std::size_t>(c - c0)]);
+      pending[point] -= c1 - c0;
+      if (pending[point] == 0) {
         results[point] = reduce_chunks(points[point], options, std::move(mine));
         mine = {};
         if (point_done) point_done(point, results[point]);

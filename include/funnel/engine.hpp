@@ -96,7 +96,9 @@ Trajectory simulate(const Params& params, const Geometry& g, const State& initia
 /// Runs the trajectories from each initial state: out[k] is simulate(params, f, initial[k]), bit
 /// for bit. The trajectories of a V without a spout run together in the lanes of a SIMD vector
 /// (funnel/simd.hpp); those of any other funnel one at a time. out.size() >= initial.size().
-void simulate_many(const Params& params, const Funnel& f, std::span<const State> initial, std::span<Trajectory> out);
+/// Returns how many of the collisions were computed in SIMD lanes (0 on the scalar path).
+std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
+                           std::span<Trajectory> out);
 
 /// The release state at X = fraction on the release line (fraction in (-1, 1)), with the
 /// parameters' release velocity and spin.
