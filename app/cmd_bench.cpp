@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/grid.hpp"
+#include "funnel/simd.hpp"
 #include "funnel/version.hpp"
 #include "funnel/paper/records.hpp"
 
@@ -39,7 +40,28 @@ struct BenchCommand {
   std::string samples = "400000";
   std::string repeat = "5";
   std::string format = "text";
+  std::string simd = "all";
   std::string command_line;
+
+  /// The paths to compare: "all" (every path this CPU runs) or a comma-separated list.
+  std::vector<std::string> paths() const {
+    const std::vector<std::string> available = simd_paths();
+    if (simd == "all") return available;
+    std::vector<std::string> out;
+    std::string joined;
+    for (const std::string& a : available) joined += (joined.empty() ? "" : ", ") + a;
+    std::size_t begin = 0;
+    while (begin <= simd.size()) {
+      const std::size_t end = std::min(simd.find(',', begin), simd.size());
+      const std::string name = simd.substr(begin, end - begin);
+      if (std::find(available.begin(), available.end(), name) == available.end()) {
+        throw UsageError("invalid simd = '" + name + "': valid values on this CPU are all, " + joined);
+      }
+      out.push_back(name);
+      begin = end + 1;
+    }
+    return out;
+  }
 
   void run() const {
     const int n_threads = to_threads(threads);
@@ -50,12 +72,33 @@ struct BenchCommand {
     }
     if (format != "text" && format != "json") throw UsageError("invalid format = '" + format + "': valid values are text, json");
     const int reps = static_cast<int>(*r);
+    const std::vector<std::string> compared = paths();
 
     // Reference ensemble : theta = 60, e = 0.99, mu = 1, beta0 = 0, line release.
     const Params ref = default_params();
     EnsembleResult ens;
     const EnsembleOptions opt{n, ReleaseDist::Line, n_threads, false};
     const double t_ens = median_seconds(reps, [&] { ens = run_ensemble(ref, opt); });
+
+    // The reference ensemble on each path, on one thread and on every core: computed collisions
+    // per second by path (the results are the same bits on every path).
+    const std::string in_use = simd_path();
+    const int cores = resolve_threads(0);
+    nlohmann::ordered_json by_path = nlohmann::ordered_json::array();
+    for (const std::string& path : compared) {
+      set_simd_path(path);
+      for (const int t : {1, cores}) {
+        if (t == cores && cores == 1) break;
+        EnsembleResult res;
+        const double wall = median_seconds(reps, [&] { res = run_ensemble(ref, {n, ReleaseDist::Line, t, false}); });
+        by_path.push_back({{"path", path},
+                           {"lanes", simd_lanes()},
+                           {"threads", t},
+                           {"wall_time_s", wall},
+                           {"computed_collisions_per_second", static_cast<double>(res.simulated_collisions) / wall}});
+      }
+    }
+    set_simd_path(in_use);
 
     // Reference sweep: theta = 20..80 in 5 degree steps, 4000 samples, on 1 thread and on T.
     const std::vector<Params> points = expand_grid(ref, {{"theta", theta_values()}});
@@ -81,7 +124,10 @@ struct BenchCommand {
         {"computed_collisions", ens.simulated_collisions},
         {"collisions_with_mirror_images", ens.total_collisions},
         {"collisions_with_mirror_images_per_second", static_cast<double>(ens.total_collisions) / t_ens},
-        {"trajectories_per_second", static_cast<double>(n) / t_ens}};
+        {"trajectories_per_second", static_cast<double>(n) / t_ens},
+        {"simd_path", in_use},
+        {"lanes", simd_lanes()}};
+    j["reference_ensemble_by_path"] = by_path;
     j["reference_sweep"] = {{"grid", "theta = 20:80:5, e = 0.99, mu = 1, beta0 = 0, N = 4000"},
                             {"points", points.size()},
                             {"simulated_collisions", sweep_collisions},
@@ -107,6 +153,13 @@ struct BenchCommand {
     std::printf("  computed collisions         %10lld  (%lld with the mirror images, not computed)\n",
                 static_cast<long long>(ens.simulated_collisions), static_cast<long long>(ens.total_collisions));
     std::printf("  trajectories per second     %10.3e\n", e["trajectories_per_second"].get<double>());
+    std::printf("  path                        %10s  (%d lanes; FUNNEL_SIMD or --simd choose)\n", in_use.c_str(), simd_lanes());
+    std::printf("reference ensemble by path  computed collisions per second\n");
+    for (const auto& b : by_path) {
+      std::printf("  %-8s %d lanes, %d thread(s) %10.3e  (%.4f s)\n", b["path"].get<std::string>().c_str(),
+                  b["lanes"].get<int>(), b["threads"].get<int>(), b["computed_collisions_per_second"].get<double>(),
+                  b["wall_time_s"].get<double>());
+    }
     std::printf("reference sweep     %s\n", s["grid"].get<std::string>().c_str());
     std::printf("  wall time, 1 thread         %10.4f s\n", t_sweep1);
     std::printf("  wall time, %d threads        %10.4f s  (speedup %.2f)\n", all, t_sweepn, t_sweep1 / t_sweepn);
@@ -121,9 +174,13 @@ void add_bench_command(CLI::App& app, const std::string& command_line) {
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand("bench", "Measure collisions per second on the reference ensemble and sweep.");
   sub->add_option("--threads", cmd->threads, "threads for the reference ensemble; 0 = all cores (default 1)")->type_name("T");
-  sub->add_option("--samples", cmd->samples, "samples of the reference ensemble (default 40000)")->type_name("N");
+  sub->add_option("--samples", cmd->samples, "samples of the reference ensemble (default 400000)")->type_name("N");
   sub->add_option("--repeat", cmd->repeat, "runs per measurement; the median is reported (default 5)")->type_name("R");
   sub->add_option("--format", cmd->format, "text or json (default text)")->type_name("FMT");
+  sub->add_option("--simd", cmd->simd,
+                  "engine paths to compare on the reference ensemble: all, or a comma-separated list of scalar, sse4, "
+                  "avx2, avx512 (those this CPU runs; default all)")
+      ->type_name("PATHS");
   sub->callback([cmd] { cmd->run(); });
 }
 

@@ -6,6 +6,7 @@
 #include "funnel/engine.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/flight.hpp"
+#include "funnel/simd.hpp"
 #include "funnel/walton.hpp"
 
 namespace {
@@ -79,6 +80,36 @@ void BM_ReferenceEnsemble(benchmark::State& st) {
       benchmark::Counter(static_cast<double>(collisions), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_ReferenceEnsemble)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// The batched path: 4000 releases of the reference V run together by simulate_many, on one
+/// path (argument: the index in simd_paths(); 0 is the scalar engine). A path this CPU does not
+/// run is skipped.
+void BM_BatchedTrajectories(benchmark::State& st) {
+  const std::vector<std::string> paths = simd_paths();
+  const auto index = static_cast<std::size_t>(st.range(0));
+  if (index >= paths.size()) {
+    st.SkipWithError("this CPU does not run this path");
+    return;
+  }
+  const std::string saved = simd_path();
+  set_simd_path(paths[index]);
+  st.SetLabel(paths[index]);
+  const Params p = reference();
+  const Funnel f = make_funnel(p);
+  std::vector<State> initial;
+  for (int k = 0; k < 2000; ++k) initial.push_back(release_state(p, f, (2.0 * k + 1.0 - 4000.0) / 4000.0));
+  std::vector<Trajectory> out(initial.size());
+  std::int64_t collisions = 0, in_lanes = 0;
+  for (auto _ : st) {
+    in_lanes += simulate_many(p, f, initial, out);
+    for (const Trajectory& t : out) collisions += t.collisions;
+  }
+  set_simd_path(saved);
+  st.counters["computed_collisions_per_second"] =
+      benchmark::Counter(static_cast<double>(collisions), benchmark::Counter::kIsRate);
+  st.counters["share_in_lanes"] = collisions > 0 ? static_cast<double>(in_lanes) / static_cast<double>(collisions) : 0.0;
+}
+BENCHMARK(BM_BatchedTrajectories)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

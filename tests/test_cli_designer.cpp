@@ -148,6 +148,22 @@ TEST_F(Cli, BenchHeadlinesTheCollisionsActuallyComputed) {
   EXPECT_NEAR(e["computed_collisions_per_second"].get<double>() * e["wall_time_s"].get<double>(),
               static_cast<double>(computed), 1e-6 * static_cast<double>(computed));
   EXPECT_FALSE(e.contains("collisions_per_second"));  // no unlabelled mirrored count
+  // Every path this CPU runs, on one thread and on every core, with the same collisions.
+  const json& paths = b["reference_ensemble_by_path"];
+  ASSERT_GE(paths.size(), 1U);
+  EXPECT_EQ(paths[0]["path"], "scalar");
+  EXPECT_EQ(paths[0]["lanes"], 1);
+  for (const json& p : paths) {
+    EXPECT_NEAR(p["computed_collisions_per_second"].get<double>() * p["wall_time_s"].get<double>(),
+                static_cast<double>(computed), 1e-6 * static_cast<double>(computed)) << p.dump();
+  }
+  const json one = parse(run("bench --samples 500 --repeat 1 --simd scalar --format json"));
+  ASSERT_GE(one["reference_ensemble_by_path"].size(), 1U);
+  for (const json& p : one["reference_ensemble_by_path"]) EXPECT_EQ(p["path"], "scalar");
+  const Result bad = run("bench --simd avx1024");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("invalid simd = 'avx1024': valid values on this CPU are all, scalar"), std::string::npos)
+      << bad.output;
 }
 
 TEST_F(Cli, TheVsShortcutsSweepAndAsymmetryIsNotHalved) {

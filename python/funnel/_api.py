@@ -427,6 +427,27 @@ def geometry(geometry=None, **model):
     return _core().geometry(_model("geometry", model), _geometry(geometry))
 
 
+def simd_path(path=None):
+    """The engine's path for a V funnel's trajectories; with ``path``, choose it first.
+
+    The paths are "scalar" (one trajectory at a time) and, where the CPU runs them, "sse4",
+    "avx2" and "avx512" (2, 4 or 8 trajectories in the lanes of a SIMD vector). Every path gives
+    the same results bit for bit; the default is the widest (or the environment variable
+    FUNNEL_SIMD's). Returns the path in use. A path this CPU does not run raises ValueError
+    naming the valid ones (:func:`simd_paths`). Not to be changed while a run is in progress.
+    """
+    core = _core()
+    if path is not None:
+        if not isinstance(path, str) or not core.set_simd_path(path):
+            raise ValueError(f"invalid simd path = {path!r}: valid values on this CPU are {', '.join(core.simd_paths())}")
+    return core.simd_path()
+
+
+def simd_paths():
+    """The engine's paths this CPU runs, narrowest first: ["scalar", "sse4", "avx2", "avx512"] or fewer."""
+    return list(_core().simd_paths())
+
+
 def default_params():
     """The library's default parameters as a dict (the keys of a result's ``params``)."""
     return _core().default_params()

@@ -24,6 +24,7 @@
 #include "funnel/geometry.hpp"
 #include "funnel/grid.hpp"
 #include "funnel/observables.hpp"
+#include "funnel/simd.hpp"
 #include "funnel/wear.hpp"
 #include "convert.hpp"
 #include "funnel/orbit.hpp"
@@ -614,6 +615,9 @@ PYBIND11_MODULE(_funnel, m) {
   m.def("geometry", &geometry, py::arg("model"), py::arg("profile") = py::none());
   m.def("parse_values", &parse_values, py::arg("name"), py::arg("text"));
   m.def("default_params", &default_params);
+  m.def("simd_paths", &funnel::simd_paths);
+  m.def("simd_path", &funnel::simd_path);
+  m.def("set_simd_path", [](const std::string& name) { return funnel::set_simd_path(name); }, py::arg("name"));
   m.def("valid_range", [](const std::string& name) { return std::string(funnel::valid_range(library_name(name))); },
         py::arg("name"));
   m.def("sweep_parameter_names", [] {
