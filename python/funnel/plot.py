@@ -575,11 +575,15 @@ def main(argv=None):
     if argv[:1] == ["trajectory"]:
         from .trajectory import main as trajectory_main
         return trajectory_main(argv[1:], prog="python -m funnel.plot trajectory")
+    if argv[:1] == ["bench"]:
+        from .plot_bench import main as bench_main
+        return bench_main(argv[1:])
     parser = argparse.ArgumentParser(prog="python -m funnel.plot", description=(
         "Render OUTDIR/figNN/figNN.{png,svg} from figNN.{json,csv} for every figure directory, "
         "then write OUTDIR/index.html."), epilog=(
         "One trajectory: python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png "
-        "(see python -m funnel.plot trajectory --help); a directory named 'trajectory': ./trajectory."))
+        "(see python -m funnel.plot trajectory --help); a directory named 'trajectory': ./trajectory. "
+        "Collisions per second by engine path: python -m funnel.plot bench BENCH.json --out bench.png."))
     parser.add_argument("outdir", help="directory with one subdirectory figNN/ per figure")
     parser.add_argument("--jobs", type=int, default=None,
                         help="figures drawn at once, in separate processes (default: the number of cores)")

@@ -34,3 +34,32 @@ def test_every_path_gives_the_same_per_sample_results():
 def test_an_unknown_path_names_the_valid_ones():
     with pytest.raises(ValueError, match=r"invalid simd path = 'avx1024': valid values on this CPU are scalar"):
         funnel.simd_path("avx1024")
+
+
+def test_the_bench_picture_draws_a_bar_per_path_and_refuses_other_json(tmp_path):
+    import subprocess
+    import sys
+
+    from funnel.plot_bench import bars
+
+    bench = {
+        "reference_ensemble": {"samples": 1000},
+        "reference_ensemble_by_path": [
+            {"path": "scalar", "lanes": 1, "threads": 1, "wall_time_s": 1.0, "computed_collisions_per_second": 1.5e7},
+            {"path": "avx2", "lanes": 4, "threads": 2, "wall_time_s": 0.2, "computed_collisions_per_second": 7.5e7},
+        ],
+    }
+    assert bars(bench) == [("scalar (1 lane), 1 thread", 1.5e7), ("avx2 (4 lanes), 2 threads", 7.5e7)]
+    source = tmp_path / "bench.json"
+    source.write_text(__import__("json").dumps(bench))
+    out = tmp_path / "bench.png"
+    run = subprocess.run([sys.executable, "-m", "funnel.plot", "bench", str(source), "--out", str(out)],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    source.write_text('{"reference_ensemble": {}}')
+    bad = subprocess.run([sys.executable, "-m", "funnel.plot", "bench", str(source), "--out", str(tmp_path / "x.png")],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2
+    assert "no 'reference_ensemble_by_path'" in bad.stderr
+    assert not (tmp_path / "x.png").exists()
