@@ -13,7 +13,8 @@
 //    from the event log stays clear of the faces and the edges (funnel::audit_flights) and every
 //    exit lies between the edges; the exit state balances the energy; the wear bins sum to the
 //    totals; the Zeno guard never fires; the mirror release gives the mirror result bit for bit
-//    (line ensembles rely on it).
+//    (line ensembles rely on it); a V's releases run together on every SIMD path of the CPU
+//    (simulate_many) give the scalar engine's results bit for bit.
 //  - the same for random wall profiles (ledges, spouts, wedges, corners, an outlet of any width
 //    or closed, lower ends at different heights, a material per wall), and the mirror release in
 //    the mirror profile.
@@ -24,10 +25,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "funnel/audit.hpp"
 #include "funnel/edge_contact.hpp"
+#include "funnel/simd.hpp"
 #include "funnel/engine.hpp"
 #include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
@@ -317,6 +320,39 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
           "mirror release exits in a non-mirror state", a.exit_state.r.x, b.exit_state.r.x);
 }
 
+/// The releases `fractions` of p run together on every SIMD path give the scalar engine's
+/// trajectories bit for bit (the batched path of src/batch.cpp; other funnels run one at a time).
+void check_paths(const Params& p, const std::vector<double>& fractions) {
+  const funnel::Funnel g = funnel::make_funnel(p);
+  std::vector<funnel::State> initial;
+  std::vector<Trajectory> expected;
+  for (const double x : fractions) {
+    initial.push_back(funnel::release_state(p, g, x));
+    expected.push_back(funnel::simulate(p, g, initial.back()));
+  }
+  static const std::vector<std::string> paths = funnel::simd_paths();
+  for (const std::string& path : paths) {
+    if (path == "scalar") continue;
+    funnel::set_simd_path(path);
+    std::vector<Trajectory> got(initial.size());
+    funnel::simulate_many(p, g, initial, got);
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      const Trajectory& a = got[k];
+      const Trajectory& b = expected[k];
+      require(a.status == b.status && a.duration == b.duration && a.impulse == b.impulse &&
+                  a.normal_impulse == b.normal_impulse && a.energy_loss == b.energy_loss &&
+                  a.energy_loss_events == b.energy_loss_events && a.collisions == b.collisions &&
+                  a.edge_collisions == b.edge_collisions && a.contacts == b.contacts &&
+                  a.edge_contacts == b.edge_contacts && a.contact_time == b.contact_time &&
+                  a.final_state.r.x == b.final_state.r.x && a.final_state.r.y == b.final_state.r.y &&
+                  a.final_state.v.x == b.final_state.v.x && a.final_state.v.y == b.final_state.v.y &&
+                  a.final_state.omega == b.final_state.omega,
+              "a SIMD path gives another result than the scalar engine", a.duration, b.duration);
+    }
+  }
+  funnel::set_simd_path(paths.back());
+}
+
 /// A segment's angle to the horizontal, degrees: ledges, spouts, and everything between.
 double pick_segment_angle(FuzzedDataProvider& f) {
   switch (f.ConsumeIntegralInRange<int>(0, 4)) {
@@ -424,6 +460,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   mirror.theta_left = p.theta_right;
   mirror.theta_right = p.theta_left;
   check_release(p, mirror, fraction, 7);
+  check_paths(p, {fraction, 0.0 - fraction, 0.5 * fraction, 0.5 - 0.25 * fraction});
   // Inputs with bytes left over run a random wall profile too (consumed last, so that the
   // seeds of the V keep their meaning).
   if (f.remaining_bytes() > 0 && f.ConsumeBool()) check_profile(f, p);

@@ -18,6 +18,10 @@ namespace {
   [](const Params& p) { return static_cast<double>(p.field); },          \
   [](Params& p, double v) { p.field = static_cast<decltype(p.field)>(v); }
 
+/// Deepest vertex (where the two centre lines meet) below the outlet, in units of H: beyond it
+/// the funnel's height would be lost in the rounding of its coordinates.
+constexpr double max_vertex_depth = 1e8;
+
 // The 2D parameters first; parameters() is their prefix.
 constexpr std::size_t parameter_count_2d = 18;
 
@@ -195,6 +199,18 @@ std::optional<ParamError> validate(const Params& params) {
     if (!std::isfinite(y_bottom)) {
       ParamError err = error("gap", params.gap);
       err.range += " with (gap/2) tan(theta) finite";
+      return err;
+    }
+    // Heights are measured from the vertex, where the centre lines meet: for a wall within
+    // rounding of vertical over a wide gap it lies so far below the outlet (5.6e16 H at
+    // 90 - 1.4e-14 degrees and gap 64) that the funnel's own height is lost in the rounding of
+    // its coordinates, and the release line ended up beyond the walls (found by
+    // fuzz/fuzz_physics). The vertex must lie within max_vertex_depth H of the outlet.
+    if (!(std::fabs(y_bottom) <= max_vertex_depth)) {
+      const bool blame_angle = theta > 45.0;
+      ParamError err = error(blame_angle ? name : "gap", blame_angle ? theta : params.gap);
+      err.range = std::string(blame_angle ? "0 < " + std::string(name) + " < 90 (degrees)" : "gap >= 0") +
+                  " with the vertex within 1e8 H of the outlet: |(gap/2) tan(theta) - radius/cos(theta)| <= 1e8";
       return err;
     }
     if (params.profile) break;  // the profile's own checks (validate_profile)

@@ -58,6 +58,26 @@ TEST(Params, ClosedFunnelTooSteepForTheParticleIsRejected) {
   EXPECT_FALSE(validate(p).has_value());
 }
 
+TEST(Params, AVertexSoDeepThatTheFunnelsHeightIsLostInRoundingIsRejected) {
+  // Found by fuzz/fuzz_physics: a right wall within 1.4e-14 degrees of vertical over a gap of 64
+  // put the vertex 5.6e16 H below the outlet, and a release exited beyond the walls.
+  Params p = default_params();
+  p.gap = 63.862753716063573;
+  p.theta_left = 45.0;
+  p.theta_right = 89.999999999999986;
+  const std::optional<ParamError> err = validate(p);
+  ASSERT_TRUE(err.has_value());
+  EXPECT_EQ(err->name, "theta-right");
+  EXPECT_NE(err->range.find("the vertex within 1e8 H of the outlet"), std::string::npos) << err->range;
+  p.theta_right = 89.9;  // a steep wall is fine: its vertex is 1.8e4 H down
+  EXPECT_FALSE(validate(p).has_value());
+  p.theta_left = p.theta_right = 30.0;  // a huge gap at a moderate angle: the gap is named
+  p.theta = 30.0;
+  p.gap = 1e9;
+  ASSERT_TRUE(validate(p).has_value());
+  EXPECT_EQ(validate(p)->name, "gap");
+}
+
 TEST(Grid, ParsesListsAndInclusiveRanges) {
   std::string err;
   auto v = parse_values("5:85:0.5", err);
