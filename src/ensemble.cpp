@@ -192,8 +192,10 @@ std::pair<std::int64_t, std::int64_t> chunk_range(bool halved, std::int64_t n, s
 }
 
 /// Samples a task runs together at least (several chunks of one point when chunks are small):
-/// enough to keep the lanes of the batched path busy as trajectories end (src/engine.cpp).
-constexpr std::int64_t min_batch = 128;
+/// enough to keep the lanes of the batched path busy as trajectories of very different lengths
+/// end (src/engine.cpp), as long as every thread still gets tasks_per_thread tasks.
+constexpr std::int64_t min_batch = 2048;
+constexpr std::int64_t tasks_per_thread = 8;
 
 /// Chunks [c0, c1) of one point, each with its samples in index order (the one computation
 /// behind run_chunk and run_sweep). Without a wear record their trajectories run together
@@ -315,10 +317,13 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
     mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
   }
   // The same partition for every point; a task is a group of consecutive chunks of one point
-  // (one chunk unless chunks are smaller than min_batch samples).
+  // (one chunk unless chunks are smaller than min_batch samples). Grouping changes no bit: each
+  // chunk's statistics are its own samples' in index order.
   const std::int64_t n_chunks = chunk_count(options.samples);
   const std::int64_t per_chunk = std::max<std::int64_t>(1, options.samples / 2 / n_chunks);
-  const std::int64_t group = std::min(n_chunks, (min_batch + per_chunk - 1) / per_chunk);
+  const std::int64_t spread = n_points * n_chunks / (tasks_per_thread * resolve_threads(options.threads));
+  const std::int64_t group =
+      std::clamp<std::int64_t>((min_batch + per_chunk - 1) / per_chunk, 1, std::max<std::int64_t>(1, std::min(n_chunks, spread)));
   const std::int64_t n_groups = (n_chunks + group - 1) / group;
   const std::int64_t n_tasks = n_points * n_groups;
 

@@ -200,7 +200,8 @@ int partial_rows(const std::string& text) {
 }
 
 TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
-  const std::string grid = "sweep --theta 5:85:1 --samples 4000 --threads 2 --out ";
+  // About 1.5 s on 2 cores (the SIMD path): long enough to interrupt it after a few points.
+  const std::string grid = "sweep --theta 5:85:1 --samples 20000 --threads 2 --out ";
   ASSERT_EQ(run(grid + path("full.csv")).code, 0);
   // Interrupt twice (Ctrl-C, then kill -9) once a few points are in, then resume to the end.
   int resumed_from = 0;

@@ -133,8 +133,9 @@ TEST_F(Mpi, BadInputIsReportedOnceAndEveryRankExitsWithCode2) {
 }
 
 TEST_F(Mpi, SweepStoppedUnderThreeRanksOrByAKilledRankResumesUnderTwoAndAlone) {
-  // Long enough (about 5 s on one core) that the stop lands while points remain to be computed.
-  const std::string grid = "sweep --theta 5:85:1 --samples 20000 --out ";
+  // Long enough (about 5 s on one core with the SIMD path, 15 s on the scalar one) that the stop
+  // lands while points remain to be computed.
+  const std::string grid = "sweep --theta 5:85:1 --samples 60000 --out ";
   ASSERT_EQ(run(grid + path("full.csv") + " --threads 2").code, 0);
   int rows = 0;
   // 1) The whole job stopped (SIGTERM to mpirun: Ctrl-C, a batch system's time limit) under 3
