@@ -90,11 +90,22 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   const V max_collisions = hn::Set(d, k.max_collisions);
   const V code_left = hn::Set(d, start_left);
   const V code_right = hn::Set(d, start_right);
+  const bool closed = k.closed != 0.0;
+  const bool watch = k.watch != 0.0;
+  const V y_rest = hn::Set(d, k.y_rest), eps_rest = hn::Set(d, k.eps_rest), spin_energy = hn::Set(d, k.spin_energy);
+  const V window = hn::Set(d, k.window), slip_tol = hn::Set(d, k.slip_tol), height_tol = hn::Set(d, k.height_tol);
+  // The watch's speed is glibc's hypot, within an ulp or two of sqrt(u^2 + v^2): a lane decides
+  // the slip test only outside this relative margin (and without under- or overflow).
+  const V below = hn::Set(d, 1.0 - 1e-14), above = hn::Set(d, 1.0 + 1e-14);
+  const V tiny = hn::Set(d, 1e-280), huge = hn::Set(d, 1e280);
 
   V rx = hn::Load(d, L.rx), ry = hn::Load(d, L.ry), vx = hn::Load(d, L.vx), vy = hn::Load(d, L.vy);
   V omega = hn::Load(d, L.omega), time = hn::Load(d, L.time), impulse = hn::Load(d, L.impulse);
   V normal_impulse = hn::Load(d, L.normal_impulse), energy_loss = hn::Load(d, L.energy_loss);
   V collisions = hn::Load(d, L.collisions), start = hn::Load(d, L.start);
+  V streak = hn::Load(d, L.streak), have_last = hn::Load(d, L.have_last), last_wall = hn::Load(d, L.last_wall);
+  V last_x = hn::Load(d, L.last_x), last_y = hn::Load(d, L.last_y), prev_x = hn::Load(d, L.prev_x),
+    prev_y = hn::Load(d, L.prev_y);
   const M busy = hn::Lt(start, hn::Set(d, start_idle));
 
   std::uint32_t need = 0;
@@ -121,9 +132,13 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
                             hn::Mul(select(first_left, left.upy, right.upy), hn::Sub(ay, select(first_left, left.lowy, right.lowy))));
     const V new_time = hn::Add(time, dt);
     M common = hn::And(hn::And(busy, simple), hn::And(ok_left, ok_right));
-    common = hn::And(common, hn::And(hn::Lt(dt, inf), hn::Ge(along, zero)));
-    // Above every edge arc, ending on a face above them (the search's fast path).
-    common = hn::And(common, hn::And(hn::Gt(ry, skip), hn::Eq(select(first_left, left.low_ok, right.low_ok), one)));
+    common = hn::And(common, hn::Lt(dt, inf));
+    if (!closed) {
+      // On the face's region; above every edge arc, ending on a face above them (the search's
+      // fast path). A closed V's faces reach the vertex: no region to check, no edge, no exit.
+      common = hn::And(common, hn::Ge(along, zero));
+      common = hn::And(common, hn::And(hn::Gt(ry, skip), hn::Eq(select(first_left, left.low_ok, right.low_ok), one)));
+    }
     // Within the time cap, and time advances.
     common = hn::And(common, hn::And(hn::Le(new_time, t_max), hn::Gt(new_time, time)));
 
@@ -160,6 +175,37 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
     const V new_collisions = hn::Add(collisions, one);
     // No collapse (normal speed at least p_c) and below the collision cap.
     common = hn::And(common, hn::And(hn::Ge(p_after, p_c), hn::Lt(new_collisions, max_collisions)));
+    if (closed) {
+      // Energy above the bottom left (src/engine.cpp's rest test after each event).
+      const V e = hn::Add(hn::Add(hn::Mul(half, hn::Add(hn::Mul(new_vx, new_vx), hn::Mul(new_vy, new_vy))),
+                                  hn::Mul(hn::Mul(spin_energy, new_omega), new_omega)),
+                          cy);
+      common = hn::AndNot(hn::Lt(hn::Sub(e, y_rest), eps_rest), common);
+    }
+    if (watch) {
+      // OrbitWatch::record (src/closed.cpp) for this collision: position (cx, cy), velocity
+      // before (vx, fy), slip before, the wall hit.
+      const V wall = select(first_left, zero, one);
+      const V s2 = hn::Add(hn::Mul(vx, vx), hn::Mul(fy, fy));
+      const V bound = hn::Mul(slip_tol, hn::Sqrt(s2));
+      const V abs_slip = hn::Abs(slip);
+      const M sure_no_slip = hn::Le(abs_slip, hn::Mul(bound, below));
+      const M sure_slip = hn::Gt(abs_slip, hn::Mul(bound, above));
+      const M decided = hn::And(hn::Or(sure_no_slip, sure_slip), hn::And(hn::Ge(s2, tiny), hn::Le(s2, huge)));
+      const M seen = hn::Eq(have_last, one);
+      const M alternates = hn::And(seen, hn::Ne(wall, last_wall));
+      const M level = hn::And(seen, hn::Le(hn::Abs(hn::Sub(cy, last_y)), hn::Mul(height_tol, hn::Abs(cy))));
+      const V new_streak = hn::IfThenElseZero(hn::And(hn::And(alternates, sure_no_slip), level), hn::Add(streak, one));
+      // Decided, and not yet the orbit (the scalar engine ends the run there).
+      common = hn::And(common, hn::And(decided, hn::Lt(new_streak, window)));
+      streak = select(common, new_streak, streak);
+      prev_x = select(common, last_x, prev_x);
+      prev_y = select(common, last_y, prev_y);
+      last_x = select(common, cx, last_x);
+      last_y = select(common, cy, last_y);
+      last_wall = select(common, wall, last_wall);
+      have_last = select(common, one, have_last);
+    }
 
     rx = select(common, cx, rx);
     ry = select(common, cy, ry);
@@ -192,6 +238,15 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   hn::Store(energy_loss, d, L.energy_loss);
   hn::Store(collisions, d, L.collisions);
   hn::Store(start, d, L.start);
+  if (watch) {
+    hn::Store(streak, d, L.streak);
+    hn::Store(have_last, d, L.have_last);
+    hn::Store(last_wall, d, L.last_wall);
+    hn::Store(last_x, d, L.last_x);
+    hn::Store(last_y, d, L.last_y);
+    hn::Store(prev_x, d, L.prev_x);
+    hn::Store(prev_y, d, L.prev_y);
+  }
   return need;
 }
 

@@ -29,6 +29,13 @@ struct Constants {
   SideConstants side[2];  ///< left, right
   double skip_height;     ///< a flight starting above it meets no edge and no exit
   double t_max, p_c, max_collisions;
+  // A closed V: no region to check, no edge, no exit; a collision that leaves less than
+  // eps_rest of energy above y_rest is the scalar engine's (rest).
+  double closed;           ///< 1 closed, 0 open
+  double y_rest, eps_rest;
+  double spin_energy;      ///< 0.5 kappa a a, as the energy is computed (energy() in walton.hpp)
+  // The orbit watch of a closed funnel (funnel/watch.hpp), if `watch` is 1.
+  double watch, window, slip_tol, height_tol;
 };
 
 /// The lanes' state, structure of arrays.
@@ -44,6 +51,14 @@ struct Lanes {
   alignas(64) double energy_loss[max_lanes];
   alignas(64) double collisions[max_lanes];
   alignas(64) double start[max_lanes];  ///< start_* codes
+  // The orbit watch's memory (OrbitWatch::Memory) when Constants::watch is 1.
+  alignas(64) double streak[max_lanes];
+  alignas(64) double have_last[max_lanes];  ///< 0 or 1
+  alignas(64) double last_wall[max_lanes];  ///< 0 left, 1 right
+  alignas(64) double last_x[max_lanes];
+  alignas(64) double last_y[max_lanes];
+  alignas(64) double prev_x[max_lanes];
+  alignas(64) double prev_y[max_lanes];
 };
 
 /// Steps every busy lane through flight and face collision for as long as each lane's next event

@@ -3,10 +3,13 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "funnel/engine.hpp"
 #include "funnel/geometry.hpp"
+#include "funnel/watch.hpp"
 
 namespace funnel {
 
@@ -19,50 +22,36 @@ std::string_view to_string(FinalState state) {
   return "?";
 }
 
+void OrbitWatch::record(const Event& e) {
+  if (e.kind != EventKind::Face && e.kind != EventKind::Edge) return;
+  Memory& m = memory_;
+  const double speed = std::hypot(e.velocity_before.x, e.velocity_before.y);
+  const bool alternates = m.have_last && e.wall && *e.wall != m.last_wall;
+  const bool no_slip = std::fabs(e.slip_before) <= test_.slip_tol * speed;
+  const bool level = m.have_last && std::fabs(e.position.y - m.last.y) <= test_.height_tol * std::fabs(e.position.y);
+  m.streak = alternates && no_slip && level ? m.streak + 1 : 0;
+  m.prev = m.last;
+  m.last = e.position;
+  if (e.wall) m.last_wall = *e.wall;
+  m.have_last = true;
+}
+
 namespace {
 
-/// Watches the collisions and reports the period-2 orbit once `window` consecutive collisions
-/// alternate walls, have (almost) no slip and repeat the previous collision's height.
-class OrbitWatch final : public EventSink {
- public:
-  explicit OrbitWatch(const ClosedOptions& o) : opt_(o) {}
+/// Releases a task of run_closed classifies together (so that the batched path's lanes stay busy).
+constexpr std::int64_t closed_batch = 64;
 
-  void record(const Event& e) override {
-    if (e.kind != EventKind::Face && e.kind != EventKind::Edge) return;
-    const double speed = std::hypot(e.velocity_before.x, e.velocity_before.y);
-    const bool alternates = have_last_ && e.wall && *e.wall != last_wall_;
-    const bool no_slip = std::fabs(e.slip_before) <= opt_.slip_tol * speed;
-    const bool level = have_last_ && std::fabs(e.position.y - last_.y) <= opt_.height_tol * std::fabs(e.position.y);
-    streak_ = alternates && no_slip && level ? streak_ + 1 : 0;
-    prev_ = last_;
-    last_ = e.position;
-    if (e.wall) last_wall_ = *e.wall;
-    have_last_ = true;
-  }
-
-  bool finished() const override { return streak_ >= opt_.window; }
-
-  Vec2 last() const { return last_; }
-  Vec2 prev() const { return prev_; }
-
- private:
-  const ClosedOptions& opt_;
-  int streak_ = 0;
-  bool have_last_ = false;
-  Wall last_wall_ = Wall::Left;
-  Vec2 last_, prev_;
-};
-
-}  // namespace
-
-ClosedSample classify_release(const Params& params, double fraction, const ClosedOptions& options) {
+Params closed_params(const Params& params, const ClosedOptions& options) {
   Params p = params;
   p.gap = 0.0;
   p.t_max = options.max_time;
   p.max_collisions = options.max_collisions;
-  const Funnel g = make_funnel(p);
-  OrbitWatch watch(options);
-  const Trajectory t = simulate_release(p, g, fraction, &watch);
+  return p;
+}
+
+OrbitTest orbit_test(const ClosedOptions& o) { return {o.window, o.slip_tol, o.height_tol}; }
+
+ClosedSample classify(const Params& p, double fraction, const Trajectory& t, const OrbitWatch& watch) {
   ClosedSample s;
   s.fraction = fraction;
   s.collisions = t.collisions;
@@ -80,13 +69,38 @@ ClosedSample classify_release(const Params& params, double fraction, const Close
   return s;
 }
 
+}  // namespace
+
+ClosedSample classify_release(const Params& params, double fraction, const ClosedOptions& options) {
+  const Params p = closed_params(params, options);
+  const Funnel g = make_funnel(p);
+  OrbitWatch watch(orbit_test(options));
+  const Trajectory t = simulate_release(p, g, fraction, &watch);
+  return classify(p, fraction, t, watch);
+}
+
 ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, const ClosedOptions& options) {
   const std::int64_t n = ensemble.samples;
+  const Params p = closed_params(params, options);
+  const Funnel g = make_funnel(p);
   ClosedResult r;
   r.samples.resize(static_cast<std::size_t>(n));
+  const std::int64_t tasks = (n + closed_batch - 1) / closed_batch;
+  // Each task's releases run together, each with its own watch (simulate_many: the batched
+  // path of a V); every sample is the same as classify_release's.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(ensemble.threads))
-  for (std::int64_t k = 0; k < n; ++k) {
-    r.samples[static_cast<std::size_t>(k)] = classify_release(params, sample_fraction(ensemble, k), options);
+  for (std::int64_t task = 0; task < tasks; ++task) {
+    const std::int64_t first = task * closed_batch;
+    const std::int64_t last = std::min(n, first + closed_batch);
+    std::vector<State> initial;
+    for (std::int64_t k = first; k < last; ++k) initial.push_back(release_state(p, g, sample_fraction(ensemble, k)));
+    std::vector<OrbitWatch> watches(initial.size(), OrbitWatch(orbit_test(options)));
+    std::vector<Trajectory> out(initial.size());
+    simulate_many(p, g, initial, out, watches);
+    for (std::int64_t k = first; k < last; ++k) {
+      const auto i = static_cast<std::size_t>(k - first);
+      r.samples[static_cast<std::size_t>(k)] = classify(p, sample_fraction(ensemble, k), out[i], watches[i]);
+    }
   }
   for (const ClosedSample& s : r.samples) {
     r.periodic += s.state == FinalState::Periodic;

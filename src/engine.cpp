@@ -13,6 +13,7 @@
 #include "funnel/wear.hpp"
 #include "funnel/roots.hpp"
 #include "funnel/simd.hpp"
+#include "funnel/watch.hpp"
 
 namespace funnel {
 
@@ -454,11 +455,13 @@ Trajectory simulate(const Params& params, const Geometry&, const State& initial,
 namespace {
 
 /// The batched path runs a funnel whose walls are one straight face each, the top face of its
-/// wall (a V without a spout), open at the bottom.
+/// wall (a V without a spout): open at the bottom, each face's region ending at its edge; or
+/// closed, the faces meeting at the vertex.
 bool batchable(const Funnel& f) {
-  if (!f.one_face || f.closed) return false;
+  if (!f.one_face) return false;
   for (const Side& s : f.sides) {
-    if (s.faces.size() != 1 || !s.faces[0].low_convex || s.faces[0].high_convex || !(s.faces[0].n.y > 0.0)) return false;
+    if (s.faces.size() != 1 || s.faces[0].high_convex || !(s.faces[0].n.y > 0.0)) return false;
+    if (s.faces[0].low_convex == f.closed) return false;
   }
   return true;
 }
@@ -477,6 +480,10 @@ batch::Constants batch_constants(const Params& params, const Funnel& f) {
   k.t_max = params.t_max;
   k.p_c = params.p_c;
   k.max_collisions = static_cast<double>(params.max_collisions);
+  k.closed = f.closed ? 1.0 : 0.0;
+  k.y_rest = f.closed ? f.sides[0].faces[0].low.y : 0.0;  // as Run's y_rest_
+  k.eps_rest = params.eps_rest;
+  k.spin_energy = 0.5 * params.inertia * params.radius * params.radius;
   return k;
 }
 
@@ -491,7 +498,7 @@ double start_code(const FlightStart& s) {
   return batch::start_other;
 }
 
-void to_lane(Run::Lane r, batch::Lanes& l, int i) {
+void to_lane(Run::Lane r, batch::Lanes& l, int i, OrbitWatch* w) {
   l.rx[i] = r.state->r.x;
   l.ry[i] = r.state->r.y;
   l.vx[i] = r.state->v.x;
@@ -503,10 +510,20 @@ void to_lane(Run::Lane r, batch::Lanes& l, int i) {
   l.energy_loss[i] = r.out->energy_loss_events;
   l.collisions[i] = static_cast<double>(r.out->collisions);
   l.start[i] = start_code(*r.start);
+  if (w != nullptr) {
+    const OrbitWatch::Memory& m = w->memory();
+    l.streak[i] = m.streak;
+    l.have_last[i] = m.have_last ? 1.0 : 0.0;
+    l.last_wall[i] = m.last_wall == Wall::Left ? 0.0 : 1.0;
+    l.last_x[i] = m.last.x;
+    l.last_y[i] = m.last.y;
+    l.prev_x[i] = m.prev.x;
+    l.prev_y[i] = m.prev.y;
+  }
 }
 
 /// Copies lane i back into its run; returns the collisions the lane computed since it was filled.
-std::int64_t from_lane(const batch::Lanes& l, int i, Run::Lane r) {
+std::int64_t from_lane(const batch::Lanes& l, int i, Run::Lane r, OrbitWatch* w) {
   const auto collisions = static_cast<std::int64_t>(l.collisions[i]);
   const std::int64_t stepped = collisions - r.out->collisions;
   if (stepped == 0) return 0;  // not stepped in the lanes since it left them
@@ -522,20 +539,35 @@ std::int64_t from_lane(const batch::Lanes& l, int i, Run::Lane r) {
   if (l.start[i] == batch::start_left) r.start->on_face = WallPart{Wall::Left, 0};
   if (l.start[i] == batch::start_right) r.start->on_face = WallPart{Wall::Right, 0};
   *r.stalled = 0;  // every step in the lanes advanced time
+  if (w != nullptr) {
+    OrbitWatch::Memory& m = w->memory();
+    m.streak = static_cast<int>(l.streak[i]);
+    m.have_last = l.have_last[i] != 0.0;
+    m.last_wall = l.last_wall[i] == 0.0 ? Wall::Left : Wall::Right;
+    m.last = {l.last_x[i], l.last_y[i]};
+    m.prev = {l.prev_x[i], l.prev_y[i]};
+  }
   return stepped;
 }
 
-}  // namespace
-
-std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
-                           std::span<Trajectory> out) {
+/// simulate_many with or without watches (empty span: none).
+std::int64_t run_many(const Params& params, const Funnel& f, std::span<const State> initial, std::span<Trajectory> out,
+                      std::span<OrbitWatch> watches) {
   const int width = simd_lanes();
+  auto watch_of = [&](std::size_t k) { return watches.empty() ? nullptr : &watches[k]; };
   if (width <= 1 || !batchable(f) || initial.size() < 2) {
-    for (std::size_t k = 0; k < initial.size(); ++k) out[k] = simulate(params, f, initial[k]);
+    for (std::size_t k = 0; k < initial.size(); ++k) out[k] = simulate(params, f, initial[k], watch_of(k));
     return 0;
   }
   std::int64_t in_lanes = 0;
-  const batch::Constants constants = batch_constants(params, f);
+  batch::Constants constants = batch_constants(params, f);
+  if (!watches.empty()) {
+    const OrbitTest& test = watches[0].test();
+    constants.watch = 1.0;
+    constants.window = test.window;
+    constants.slip_tol = test.slip_tol;
+    constants.height_tol = test.height_tol;
+  }
   batch::Lanes lanes{};
   std::array<std::optional<Run>, batch::max_lanes> runs;
   std::array<std::size_t, batch::max_lanes> sample{};
@@ -548,9 +580,9 @@ std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<cons
       return;
     }
     sample[i] = next;
-    runs[i].emplace(params, f, initial[next], nullptr, nullptr);
+    runs[i].emplace(params, f, initial[next], watch_of(next), nullptr);
     ++next;
-    to_lane(runs[i]->lane(), lanes, i);
+    to_lane(runs[i]->lane(), lanes, i, watch_of(sample[i]));
   };
   for (int i = 0; i < batch::max_lanes; ++i) lanes.start[i] = batch::start_idle;
   for (int i = 0; i < width; ++i) fill(i);
@@ -562,15 +594,27 @@ std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<cons
       const int i = std::countr_zero(need);
       need &= need - 1;
       Run& run = *runs[i];
-      in_lanes += from_lane(lanes, i, run.lane());
+      in_lanes += from_lane(lanes, i, run.lane(), watch_of(sample[i]));
       if (run.step()) {
         out[sample[i]] = run.result();
         fill(i);
       } else {
-        to_lane(run.lane(), lanes, i);
+        to_lane(run.lane(), lanes, i, watch_of(sample[i]));
       }
     }
   }
+}
+
+}  // namespace
+
+std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
+                           std::span<Trajectory> out) {
+  return run_many(params, f, initial, out, {});
+}
+
+std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
+                           std::span<Trajectory> out, std::span<OrbitWatch> watches) {
+  return run_many(params, f, initial, out, watches);
 }
 
 State release_state(const Params& params, const Funnel& f, double fraction) {
