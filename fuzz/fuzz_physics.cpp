@@ -14,7 +14,8 @@
 //    exit lies between the edges; the exit state balances the energy; the wear bins sum to the
 //    totals; the Zeno guard never fires; the mirror release gives the mirror result bit for bit
 //    (line ensembles rely on it); a V's releases run together on every SIMD path of the CPU
-//    (simulate_many) give the scalar engine's results bit for bit.
+//    (simulate_many) give the scalar engine's results bit for bit, a closed V's with the orbit
+//    watch of Figs. 11-12 too.
 //  - the same for random wall profiles (ledges, spouts, wedges, corners, an outlet of any width
 //    or closed, lower ends at different heights, a material per wall), and the mirror release in
 //    the mirror profile.
@@ -31,6 +32,7 @@
 #include "funnel/audit.hpp"
 #include "funnel/edge_contact.hpp"
 #include "funnel/simd.hpp"
+#include "funnel/watch.hpp"
 #include "funnel/engine.hpp"
 #include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
@@ -330,12 +332,25 @@ void check_paths(const Params& p, const std::vector<double>& fractions) {
     initial.push_back(funnel::release_state(p, g, x));
     expected.push_back(funnel::simulate(p, g, initial.back()));
   }
+  // A closed funnel's runs also carry the orbit watch of Figs. 11-12 (a short window, so that
+  // the periodic orbit is also recognised within the caps).
+  const bool watched = p.gap == 0.0;
+  const funnel::OrbitTest test{3, 1e-3, 1e-3};
+  std::vector<funnel::OrbitWatch> expected_watches(initial.size(), funnel::OrbitWatch(test));
+  if (watched) {
+    for (std::size_t k = 0; k < initial.size(); ++k) expected[k] = funnel::simulate(p, g, initial[k], &expected_watches[k]);
+  }
   static const std::vector<std::string> paths = funnel::simd_paths();
   for (const std::string& path : paths) {
     if (path == "scalar") continue;
     funnel::set_simd_path(path);
     std::vector<Trajectory> got(initial.size());
-    funnel::simulate_many(p, g, initial, got);
+    std::vector<funnel::OrbitWatch> watches(initial.size(), funnel::OrbitWatch(test));
+    if (watched) {
+      funnel::simulate_many(p, g, initial, got, watches);
+    } else {
+      funnel::simulate_many(p, g, initial, got);
+    }
     for (std::size_t k = 0; k < got.size(); ++k) {
       const Trajectory& a = got[k];
       const Trajectory& b = expected[k];
@@ -348,6 +363,14 @@ void check_paths(const Params& p, const std::vector<double>& fractions) {
                   a.final_state.v.x == b.final_state.v.x && a.final_state.v.y == b.final_state.v.y &&
                   a.final_state.omega == b.final_state.omega,
               "a SIMD path gives another result than the scalar engine", a.duration, b.duration);
+      if (watched) {
+        const funnel::OrbitWatch::Memory& m = watches[k].memory();
+        const funnel::OrbitWatch::Memory& e = expected_watches[k].memory();
+        require(a.stopped == b.stopped && m.streak == e.streak && m.have_last == e.have_last &&
+                    m.last_wall == e.last_wall && m.last.x == e.last.x && m.last.y == e.last.y &&
+                    m.prev.x == e.prev.x && m.prev.y == e.prev.y,
+                "a SIMD path watches the orbit differently from the scalar engine", m.last.y, e.last.y);
+      }
     }
   }
   funnel::set_simd_path(paths.back());
