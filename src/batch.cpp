@@ -55,21 +55,24 @@ SideV broadcast(D d, const SideConstants& s) {
           hn::Set(d, s.radius)};
 }
 
-/// line_arrival_time (src/roots.cpp) for delta0 >= 0; `ok` is false where delta0 < 0 (behind
-/// the line: the scalar engine decides).
-V line_time(D d, V delta0, V p, V c, M& ok) {
+/// line_arrival_time (src/roots.cpp) for delta0 >= 0, given s = sqrt(p^2 + 2 delta0 c) where
+/// delta0 != 0: one division of the operands the scalar engine divides (the same quotient).
+/// `ok` is false where delta0 < 0 (behind the line: the scalar engine decides).
+V line_time(D d, V delta0, V p, V c, V s, M& ok) {
   const V zero = hn::Zero(d);
-  const V two = hn::Set(d, 2.0);
   ok = hn::Ge(delta0, zero);
   const M ahead = hn::Ge(p, zero);
-  // On the line: exactly 2p/c, or 0 when moving inward.
-  const V on_line = hn::IfThenElseZero(ahead, hn::Div(hn::Mul(two, p), c));
-  // Off it: s = sqrt(p^2 + 2 delta0 c); (p + s)/c or 2 delta0/(s - p).
-  const V two_delta0 = hn::Mul(two, delta0);
-  const V s = hn::Sqrt(hn::Add(hn::Mul(p, p), hn::Mul(two_delta0, c)));
-  const V off_line = hn::IfThenElse(ahead, hn::Div(hn::Add(p, s), c), hn::Div(two_delta0, hn::Sub(s, p)));
-  return hn::IfThenElse(hn::Eq(delta0, zero), on_line, off_line);
+  const M on_line = hn::Eq(delta0, zero);
+  // On the line: 2p/c, or 0 when moving inward (0/c = +0). Off it: (p + s)/c or 2 delta0/(s - p).
+  const V two = hn::Set(d, 2.0);
+  const V num = hn::IfThenElse(on_line, hn::IfThenElseZero(ahead, hn::Mul(two, p)),
+                               hn::IfThenElse(ahead, hn::Add(p, s), hn::Mul(two, delta0)));
+  const V den = hn::IfThenElse(hn::Or(on_line, ahead), c, hn::Sub(s, p));
+  return hn::Div(num, den);
 }
+
+/// The square root of line_arrival_time, p^2 + 2 delta0 c.
+V line_root_argument(D d, V delta0, V p, V c) { return hn::Add(hn::Mul(p, p), hn::Mul(hn::Mul(hn::Set(d, 2.0), delta0), c)); }
 
 V select(M m, V a, V b) { return hn::IfThenElse(m, a, b); }
 
@@ -110,18 +113,24 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
 
   std::uint32_t need = 0;
   for (;;) {
-    // Only a flight that began at a release or on one face's line (FlightStart with on_face
-    // alone) is the common case.
-    const M simple = hn::Lt(start, hn::Set(d, start_other));
-    // The two faces' line times (src/flight.cpp line_time): distance 0 on the face just left.
+    // Only a flight that began on one face's line (FlightStart with on_face alone) is the
+    // common case; a release's first flight is the scalar engine's.
+    const M on_left = hn::Eq(start, code_left);
+    const M simple = hn::Or(on_left, hn::Eq(start, code_right));
+    // The two faces' line times (src/flight.cpp line_time): distance 0 on the face just left;
+    // only the other face needs the square root.
     const V p_left = hn::Add(hn::Mul(vx, left.nx), hn::Mul(vy, left.ny));
     const V p_right = hn::Add(hn::Mul(vx, right.nx), hn::Mul(vy, right.ny));
     const V dist_left = hn::Add(hn::Mul(left.nx, hn::Sub(rx, left.refx)), hn::Mul(left.ny, hn::Sub(ry, left.refy)));
     const V dist_right =
         hn::Add(hn::Mul(right.nx, hn::Sub(rx, right.refx)), hn::Mul(right.ny, hn::Sub(ry, right.refy)));
+    const V delta_left = select(on_left, zero, dist_left);
+    const V delta_right = select(on_left, dist_right, zero);
+    const V root = hn::Sqrt(select(on_left, line_root_argument(d, delta_right, p_right, right.ny),
+                                   line_root_argument(d, delta_left, p_left, left.ny)));
     M ok_left, ok_right;
-    const V t_left = line_time(d, select(hn::Eq(start, code_left), zero, dist_left), p_left, left.ny, ok_left);
-    const V t_right = line_time(d, select(hn::Eq(start, code_right), zero, dist_right), p_right, right.ny, ok_right);
+    const V t_left = line_time(d, delta_left, p_left, left.ny, root, ok_left);
+    const V t_right = line_time(d, delta_right, p_right, right.ny, root, ok_right);
     // The earlier line, the left one on a tie; its face's region must be reached.
     const M first_left = hn::Le(t_left, t_right);
     const V dt = select(first_left, t_left, t_right);
