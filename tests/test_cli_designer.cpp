@@ -166,6 +166,20 @@ TEST_F(Cli, BenchHeadlinesTheCollisionsActuallyComputed) {
       << bad.output;
 }
 
+TEST_F(Cli, EveryEnginePathWritesTheSameBytes) {
+  // FUNNEL_SIMD chooses the engine's path; the results are the same bits on every one (a name
+  // this CPU cannot run is ignored: the widest path is used).
+  const std::string sweep = "sweep --theta 30,46,60 --mu 0.1,1 --samples 300 --out ";
+  const std::string closed = "closed --theta 50 --mu 0.01 --samples 100 --format csv --out ";
+  for (const std::string& path : {"scalar", "sse4", "avx2", "avx512", "avx1024"}) {
+    const std::string env = "FUNNEL_SIMD=" + path;
+    ASSERT_EQ(run(sweep + this->path(path + ".csv"), env).code, 0);
+    ASSERT_EQ(run(closed + this->path(path + "_closed.csv"), env).code, 0);
+    EXPECT_EQ(read(path + ".csv"), read("scalar.csv")) << path;
+    EXPECT_EQ(read(path + "_closed.csv"), read("scalar_closed.csv")) << path;
+  }
+}
+
 TEST_F(Cli, TheVsShortcutsSweepAndAsymmetryIsNotHalved) {
   const json e = parse(run("ensemble --theta-left 40 --theta-right 50 --samples 200"));
   EXPECT_EQ(e["simulated_collisions"], e["total_collisions"]);  // not mirror symmetric: no halving
