@@ -71,8 +71,10 @@ V line_time(D d, V delta0, V p, V c, V s, M& ok) {
   return hn::Div(num, den);
 }
 
-/// The square root of line_arrival_time, p^2 + 2 delta0 c.
-V line_root_argument(D d, V delta0, V p, V c) { return hn::Add(hn::Mul(p, p), hn::Mul(hn::Mul(hn::Set(d, 2.0), delta0), c)); }
+/// The argument of line_arrival_time's square root, p^2 + 2 delta0 c.
+V line_root_argument(D d, V delta0, V p, V c) {
+  return hn::Add(hn::Mul(p, p), hn::Mul(hn::Mul(hn::Set(d, 2.0), delta0), c));
+}
 
 V select(M m, V a, V b) { return hn::IfThenElse(m, a, b); }
 
