@@ -92,14 +92,17 @@ ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, c
   for (std::int64_t task = 0; task < tasks; ++task) {
     const std::int64_t first = task * closed_batch;
     const std::int64_t last = std::min(n, first + closed_batch);
+    std::vector<double> fractions;
     std::vector<State> initial;
-    for (std::int64_t k = first; k < last; ++k) initial.push_back(release_state(p, g, sample_fraction(ensemble, k)));
+    for (std::int64_t k = first; k < last; ++k) {
+      fractions.push_back(sample_fraction(ensemble, k));
+      initial.push_back(release_state(p, g, fractions.back()));
+    }
     std::vector<OrbitWatch> watches(initial.size(), OrbitWatch(orbit_test(options)));
     std::vector<Trajectory> out(initial.size());
     simulate_many(p, g, initial, out, watches);
-    for (std::int64_t k = first; k < last; ++k) {
-      const auto i = static_cast<std::size_t>(k - first);
-      r.samples[static_cast<std::size_t>(k)] = classify(p, sample_fraction(ensemble, k), out[i], watches[i]);
+    for (std::size_t i = 0; i < initial.size(); ++i) {
+      r.samples[static_cast<std::size_t>(first) + i] = classify(p, fractions[i], out[i], watches[i]);
     }
   }
   for (const ClosedSample& s : r.samples) {

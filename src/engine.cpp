@@ -144,8 +144,8 @@ class Run {
     return false;
   }
 
-  /// The batched path's view of a run between its events (engine.cpp's simulate_batch copies
-  /// the lanes' common steps in and out through it).
+  /// The batched path's view of a run between its events (run_many below copies the lanes'
+  /// common steps in and out through it).
   struct Lane {
     State* state;
     double* time;

@@ -197,23 +197,21 @@ std::pair<std::int64_t, std::int64_t> chunk_range(bool halved, std::int64_t n, s
 constexpr std::int64_t min_batch = 2048;
 constexpr std::int64_t tasks_per_thread = 8;
 
+/// Releases run together at most: the memory of a task stays bounded whatever N.
+constexpr std::int64_t max_block = 4096;
+
 /// Chunks [c0, c1) of one point, each with its samples in index order (the one computation
-/// behind run_chunk and run_sweep). Without a wear record their trajectories run together
-/// (simulate_many: the batched path of a V); each chunk's statistics are the same either way.
+/// behind run_chunk and run_sweep). Without a wear record their trajectories run together, in
+/// blocks of at most max_block releases (simulate_many: the batched path of a V); each chunk's
+/// statistics are the same either way.
 std::vector<ChunkStats> compute_chunks(const Params& params, const Funnel& g, const EnsembleOptions& options,
                                        bool halved, std::int64_t c0, std::int64_t c1) {
   const std::int64_t n = options.samples;
-  const std::int64_t first = chunk_range(halved, n, c0).first;
-  const std::int64_t last = chunk_range(halved, n, c1 - 1).second;
   const bool together = options.wear_bins == 0;
   std::vector<State> releases;
   std::vector<Trajectory> runs;
-  if (together) {
-    releases.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, last - first)));
-    for (std::int64_t k = first; k < last; ++k) releases.push_back(sample_release(params, g, options, k));
-    runs.resize(releases.size());
-    simulate_many(params, g, releases, runs);
-  }
+  // The releases [block_first, block_last) are in `releases` and `runs`: none yet.
+  std::int64_t block_first = chunk_range(halved, n, c0).first, block_last = block_first;
   std::vector<ChunkStats> out(static_cast<std::size_t>(c1 - c0));
   for (std::int64_t chunk = c0; chunk < c1; ++chunk) {
     const auto [begin, end] = chunk_range(halved, n, chunk);
@@ -222,8 +220,17 @@ std::vector<ChunkStats> compute_chunks(const Params& params, const Funnel& g, co
     stats.wear = wear;
     if (options.keep_samples) stats.samples.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, end - begin)));
     for (std::int64_t k = begin; k < end; ++k) {
+      if (together && k == block_last) {
+        // The next block, up to the last chunk's end.
+        block_first = k;
+        block_last = std::min(chunk_range(halved, n, c1 - 1).second, k + max_block);
+        releases.clear();
+        for (std::int64_t b = block_first; b < block_last; ++b) releases.push_back(sample_release(params, g, options, b));
+        runs.resize(releases.size());
+        simulate_many(params, g, releases, runs);
+      }
       const double fraction = sample_fraction(options, k);
-      const auto index = static_cast<std::size_t>(k - first);
+      const auto index = static_cast<std::size_t>(k - block_first);
       const State release = together ? releases[index] : sample_release(params, g, options, k);
       if (options.wear_bins > 0) wear = Wear::make(g, options.wear_bins);
       const Trajectory t = together ? runs[index] : simulate(params, g, release, nullptr, &wear);
