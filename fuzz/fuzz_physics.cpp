@@ -5,6 +5,8 @@
 //  - collide: finite output; kinetic energy never increases; the closed-form energy loss equals
 //    the loss computed from the states; |J_t| <= mu J_N; sliding has |J_t| = mu J_N; sticking
 //    gives s' = -beta0 s.
+//  - the edge quartic's root: the certified refinement gives the reference's double or declines,
+//    and the reference the plain loop's, for circle approaches of every scale.
 //  - edge_contact: finite output; the end on the edge circle, inside the arc; no energy gained;
 //    |integral F dt| <= mu integral N dt; a take-off where the normal force has fallen to 0.
 //  - simulate_release (max 20000 collisions, t_max <= 1e3, any release height, velocity and
@@ -21,11 +23,13 @@
 //    the mirror profile.
 #include <fuzzer/FuzzedDataProvider.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -37,6 +41,7 @@
 #include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/observables.hpp"
+#include "funnel/roots.hpp"
 #include "funnel/wear.hpp"
 #include "funnel/params.hpp"
 #include "funnel/walton.hpp"
@@ -188,6 +193,52 @@ void check_edge_contact(FuzzedDataProvider& f) {
     const double n = funnel::edge_normal_force(r.end, {0.0, 0.0}, m.radius);
     require(std::fabs(n) <= 1e-6 * std::fmax(1.0, funnel::dot(r.end.v, r.end.v) / m.radius) || r.phases >= 64,
             "edge_contact: take-off with a normal force", n);
+  }
+}
+
+/// The edge quartic's root (funnel/roots.hpp): for circle approaches of every scale drawn from a
+/// generator seeded by the input, the certified refinement gives the reference's double or
+/// declines (NaN), and the reference gives the bits of the plain regula falsi loop.
+void check_edge_roots(const std::uint8_t* data, std::size_t size) {
+  std::uint64_t seed = 0x9e3779b97f4a7c15ULL;
+  for (std::size_t i = 0; i < size; ++i) seed = (seed ^ data[i]) * 0x100000001b3ULL;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), expo(-6.0, 3.0);
+  for (int k = 0; k < 16; ++k) {
+    const double a = std::pow(10.0, expo(rng) / 3.0 - 1.0), speed = std::pow(10.0, expo(rng));
+    const double dx = 4 * a * u(rng), dy = 4 * a * u(rng), vx = speed * u(rng), vy = speed * u(rng);
+    const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
+    if (!(c[0] > 0.0)) continue;
+    const double t_end = std::pow(10.0, expo(rng));
+    std::array<double, 3> crit{};
+    const int n = funnel::cubic_real_roots(3.0 * c[3], 2.0 * c[2], c[1], crit);
+    double lo = 0.0, flo = c[0];
+    for (int j = 0; j <= n; ++j) {
+      const double hi = j < n ? crit[static_cast<std::size_t>(j)] : t_end;
+      if (!(hi > lo) || hi > t_end) continue;
+      const double fhi = funnel::eval_quartic(c, hi);
+      if (flo > 0.0 && fhi <= 0.0) {
+        std::snprintf(context, sizeof context, "edge root: c = {%a, %a, %a, %a, %a}, bracket [%a, %a]", c[0], c[1], c[2],
+                      c[3], c[4], lo, hi);
+        double l = lo, h = hi, fl = flo, fh = fhi;  // the plain loop
+        for (int it = 0; it < 200; ++it) {
+          double mid = l + (h - l) * (fl / (fl - fh));
+          if (!(mid > l && mid < h) || it % 3 == 2) mid = 0.5 * (l + h);
+          if (mid <= l || mid >= h) break;
+          const double fm = funnel::eval_quartic(c, mid);
+          (fm > 0.0 ? l : h) = mid;
+          (fm > 0.0 ? fl : fh) = fm;
+        }
+        const double reference = funnel::detail::refine_reference(c, lo, hi, flo, fhi);
+        require(reference == h, "edge root: the reference differs from the plain loop", reference, h);
+        const double certified = funnel::detail::refine_certified(c, lo, hi, flo, fhi);
+        require(certified != certified || certified == reference, "edge root: certified != reference", certified,
+                reference);
+        break;
+      }
+      lo = hi;
+      flo = fhi;
+    }
   }
 }
 
@@ -465,6 +516,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FuzzedDataProvider f(data, size);
   check_collision(f);
   check_edge_contact(f);
+  check_edge_roots(data, size);
 
   Params p;
   if (!pick_params(f, p)) return 0;

@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <iostream>
 #include <random>
+#include <vector>
 
 #include "test_util.hpp"
 
@@ -106,6 +109,116 @@ TEST(Roots, QuarticStartingOnTheCircleIgnoresTheRootAtZero) {
   // through height 1 at t = 2, entering the circle.
   const std::array<double, 5> c{0.0, 2.0, 1.0 - 1.0, -1.0, 0.25};
   EXPECT_TRUE(near(first_descending_root(c, 10.0), 2.0, 1e-14));
+}
+
+/// The edge quartic's root refinement as first written: regula falsi with a bisection every third
+/// step, until lo and hi are adjacent doubles. detail::refine_reference must return its bits.
+double plain_refinement(const std::array<double, 5>& c, double lo, double hi, double flo, double fhi) {
+  for (int it = 0; it < 200; ++it) {
+    double mid = lo + (hi - lo) * (flo / (flo - fhi));
+    if (!(mid > lo && mid < hi) || it % 3 == 2) mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    const double fm = eval_quartic(c, mid);
+    if (fm > 0.0) {
+      lo = mid;
+      flo = fm;
+    } else {
+      hi = mid;
+      fhi = fm;
+    }
+  }
+  return hi;
+}
+
+struct Bracket {
+  std::array<double, 5> c;
+  double lo, hi, flo, fhi;
+};
+
+/// Brackets as first_descending_root forms them, from edge approaches like the funnel's: a
+/// centre within a few radii of an edge point, moving at up to `speed`, over a window t_end.
+std::vector<Bracket> edge_brackets(std::uint64_t seed, int count, double speed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  std::vector<Bracket> out;
+  const double a = 0.01;
+  while (static_cast<int>(out.size()) < count) {
+    const double dx = 4 * a * u(rng), dy = 4 * a * u(rng), vx = speed * u(rng), vy = speed * u(rng);
+    const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
+    if (c[0] <= 0.0) continue;
+    const double t_end = 0.3 * unit(rng) + 1e-3;
+    std::array<double, 3> crit{};
+    const int n = cubic_real_roots(3.0 * c[3], 2.0 * c[2], c[1], crit);
+    double lo = 0.0, flo = c[0];
+    for (int k = 0; k <= n; ++k) {
+      const double hi = k < n ? crit[static_cast<std::size_t>(k)] : t_end;
+      if (!(hi > lo) || hi > t_end) continue;
+      const double fhi = eval_quartic(c, hi);
+      if (flo > 0.0 && fhi <= 0.0) {
+        out.push_back({c, lo, hi, flo, fhi});
+        break;
+      }
+      lo = hi;
+      flo = fhi;
+    }
+  }
+  return out;
+}
+
+TEST(Roots, EdgeRootReferenceGivesThePlainLoopsBits) {
+  // The reference evaluates a bisection's two possible midpoints ahead of time: the same values.
+  for (const double speed : {0.05, 1.0, 5.0}) {
+    for (const Bracket& b : edge_brackets(11, 20000, speed)) {
+      const double plain = plain_refinement(b.c, b.lo, b.hi, b.flo, b.fhi);
+      ASSERT_EQ(detail::refine_reference(b.c, b.lo, b.hi, b.flo, b.fhi), plain) << speed;
+    }
+  }
+}
+
+TEST(Roots, CertifiedEdgeRootIsTheReferenceRootOrNothing) {
+  // refine_certified returns the reference's double or NaN (then the reference runs), and it
+  // does prove most roots of well-separated approaches.
+  for (const double speed : {0.05, 1.0, 5.0}) {
+    int certified = 0, total = 0;
+    for (const Bracket& b : edge_brackets(5, 20000, speed)) {
+      const double reference = detail::refine_reference(b.c, b.lo, b.hi, b.flo, b.fhi);
+      const double fast = detail::refine_certified(b.c, b.lo, b.hi, b.flo, b.fhi);
+      ++total;
+      if (fast != fast) continue;
+      ++certified;
+      ASSERT_EQ(fast, reference) << speed << " " << b.lo << " " << b.hi;
+      if (b.lo == 0.0) ASSERT_EQ(first_descending_root(b.c, b.hi), reference);  // the same bracket
+    }
+    std::cout << "speed " << speed << ": " << certified << " of " << total << " certified\n";
+    EXPECT_GT(certified, total / 3) << "speed " << speed;
+  }
+}
+
+TEST(Roots, CertifiedEdgeRootDeclinesWhereRoundingFlickers) {
+  // A grazing approach seen in the θ = 44° ensemble: the root lies next to a minimum of f, and
+  // fl(f) changes sign several times within a few dozen doubles of it. Which of those doubles the
+  // refinement ends on depends on its path, so no proof of uniqueness exists: refine_certified
+  // must decline, and first_descending_root still gives the reference's bits.
+  const std::array<double, 5> c{0x1.466a7ceb51203p-4, -0x1.2e2d55823114ep-1, 0x1.d357609848e38p-1,
+                                0x1.408e8a6fc7396p-1, 0x1p-2};
+  const double hi = 0x1.f4e6d23aedd76p-3, flo = c[0], fhi = eval_quartic(c, hi);
+  ASSERT_GT(flo, 0.0);
+  ASSERT_LE(fhi, 0.0);
+  const double reference = detail::refine_reference(c, 0.0, hi, flo, fhi);
+  int switches = 0;
+  double t = reference;
+  for (int k = 0; k < 40; ++k) t = std::nextafter(t, 0.0);
+  double prev = eval_quartic(c, t);
+  for (int k = 0; k < 80; ++k) {
+    t = std::nextafter(t, 1.0);
+    const double f = eval_quartic(c, t);
+    if (prev > 0.0 && f <= 0.0) ++switches;
+    prev = f;
+  }
+  EXPECT_GE(switches, 2);  // the reason: more than one double where fl(f) turns non-positive
+  const double fast = detail::refine_certified(c, 0.0, hi, flo, fhi);
+  EXPECT_TRUE(fast != fast) << fast;
+  EXPECT_EQ(first_descending_root(c, hi), reference);
 }
 
 }  // namespace

@@ -28,4 +28,18 @@ double eval_quartic(const std::array<double, 5>& c, double t);
 /// monotone pieces; the root is then bracketed and refined to full precision. `never` if none.
 double first_descending_root(const std::array<double, 5>& c, double t_end);
 
+namespace detail {
+
+/// The root of the quartic f in a bracket [lo, hi] with flo = fl(f(lo)) > 0 >= fhi = fl(f(hi))
+/// (fl: eval_quartic's rounded values), to the last bit: regula falsi and bisection until lo and
+/// hi are adjacent doubles; returns hi. This defines the root's last bit.
+double refine_reference(const std::array<double, 5>& c, double lo, double hi, double flo, double fhi);
+
+/// refine_reference's result found by Newton's method and proved to be the only double it can
+/// return (docs/performance.md); NaN when the proof does not go through. first_descending_root
+/// uses it, and refine_reference when it gives NaN.
+double refine_certified(const std::array<double, 5>& c, double lo, double hi, double flo, double fhi);
+
+}  // namespace detail
+
 }  // namespace funnel
