@@ -156,20 +156,30 @@ namespace {
 
 constexpr double unit_roundoff = 0x1p-53;
 
+/// Below the normal range a rounding is off by up to half the smallest subnormal, in absolute
+/// terms, not by u relatively. The bounds below add a term for that: at most 16 such roundings,
+/// each carried through factors of at most 1 + b (b >= every t, a and w involved), for each
+/// quantity. Far below anything at the engine's scales, it keeps the proof sound near underflow
+/// (found in review: with terms of f near 2^-1022 fl(f) steps by whole subnormals).
+double underflow_allowance(double b) {
+  const double g = 1.0 + b;
+  return 0x1p-1070 * (g * g) * (g * g);
+}
+
 /// Bound on |fl(f(t)) - f(t)| for every double t in [0, h]: Horner's gamma_8 sum |c_i| t^i
 /// (degree 4, no fused multiply-add), doubled to cover the rounding of the bound itself.
 double horner_error(const std::array<double, 5>& c, double h) {
   const double gamma8 = 8.0 * unit_roundoff / (1.0 - 8.0 * unit_roundoff);
   const double abs_sum =
       (((std::fabs(c[4]) * h + std::fabs(c[3])) * h + std::fabs(c[2])) * h + std::fabs(c[1])) * h + std::fabs(c[0]);
-  return 2.0 * gamma8 * abs_sum;
+  return 2.0 * gamma8 * abs_sum + underflow_allowance(h);
 }
 
 /// True when f > bound on all of [a, a + w] (sign > 0), or f < -bound there (sign < 0), shown by
 /// the Bernstein coefficients of f on the interval (f is a convex combination of them). Each
-/// coefficient is a sum of products of the inputs with at most ~20 roundings on any path, so its
-/// error is below gamma_20 times the same computation on absolute values; 8e-15 bounds that
-/// generously (gamma_20 = 2.2e-15). Requires a >= 0, w > 0.
+/// coefficient is a sum of products of the inputs with at most 13 roundings on any path, so its
+/// error is below gamma_13 times the same computation on absolute values; 8e-15 bounds that
+/// generously (gamma_13 = 1.4e-15). Requires a >= 0, w > 0.
 bool bernstein_bound(const std::array<double, 5>& c, double a, double w, double bound, int sign) {
   std::array<double, 5> d = c, da{};
   for (std::size_t i = 0; i < 5; ++i) da[i] = std::fabs(c[i]);
@@ -197,7 +207,7 @@ bool bernstein_bound(const std::array<double, 5>& c, double a, double w, double 
       b += weight[j][k] * d[k];
       b_abs += weight[j][k] * da[k];
     }
-    const double err = 8e-15 * b_abs;
+    const double err = 8e-15 * b_abs + 256.0 * underflow_allowance(a + w);
     if (sign > 0 ? !(b - err > limit) : !(b + err < -limit)) return false;
   }
   return true;
@@ -205,8 +215,9 @@ bool bernstein_bound(const std::array<double, 5>& c, double a, double w, double 
 
 /// Bound on |fl(f(t)) - f(t)| for every double t with |t - r| <= rho and 0 <= t <= b. Horner's
 /// computed partial sums y_k = fl(fl(y_(k+1) t) + c_k) give exactly
-///   fl(f(t)) - f(t) = sum_k t^k (y_(k+1) t alpha_k (1 + beta_k) + y_k beta_k / (1 + beta_k))
-/// with |alpha_k|, |beta_k| <= u, so |error| <= u (1 + u) / (1 - u) sum_k b^k (|y_(k+1)| b + |y_k|).
+///   fl(f(t)) - f(t) = sum_k t^k (y_(k+1) t alpha_k + y_k beta_k / (1 + beta_k))
+/// with |alpha_k|, |beta_k| <= u, so |error| <= u / (1 - u) sum_k b^k (|y_(k+1)| b + |y_k|)
+/// (plus the underflow allowance).
 /// Each |y_k| at t is bounded by its computed value at r, the rounding at r and at t (gamma_8
 /// times the same sum on absolute values, each) and its largest change over the distance rho.
 double near_error(const std::array<double, 5>& c, double r, double b, double rho) {
@@ -226,10 +237,11 @@ double near_error(const std::array<double, 5>& c, double r, double b, double rho
     sum += bk * (y[k + 1] * b + y[k]);
     bk *= b;
   }
-  return unit_roundoff * sum * (1.0 + 1e-9);
+  return unit_roundoff * sum * (1.0 + 1e-9) + underflow_allowance(b);
 }
 
-/// The next double above / below a finite x > 0.
+/// The next double above / below a finite x > 0 (walk may form next_down(0), a NaN pattern, one
+/// step past a bracket end of 0; it stops at the end before looking at it).
 double next_up(double x) { return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) + 1); }
 double next_down(double x) { return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) - 1); }
 
@@ -267,6 +279,7 @@ namespace detail {
 
 double refine_certified(const std::array<double, 5>& c, double lo, double hi, double flo, double fhi) {
   constexpr double fail = std::numeric_limits<double>::quiet_NaN();
+  lo += 0.0;  // -0 as +0: the steps below move between doubles by their bit patterns
   const double L = lo, H = hi;
   if (!(L >= 0.0 && H > L && std::isfinite(H) && flo > 0.0 && fhi <= 0.0 && std::isfinite(flo) && std::isfinite(fhi)))
     return fail;
@@ -339,7 +352,7 @@ double refine_certified(const std::array<double, 5>& c, double lo, double hi, do
     }
   }
   // 2. The reference converges: every third of its 200 steps halves the bracket, and 66 halvings
-  // from H - L <= 2^8 r leave it well within the spacing of the doubles near r (2^-54 r or more),
+  // from H - L <= 2^8 r leave it well within the spacing of the doubles near r (2^-53 r or more),
   // so it stops at adjacent doubles, not at its step limit.
   if (!(r >= 0x1p-1000 && H - L <= 0x1p8 * r)) return fail;
   // 3. Near r, on [a1, b1] = [r - rho, r + rho] within the bracket (rho = 2^-20 r): f is strictly
@@ -351,9 +364,11 @@ double refine_certified(const std::array<double, 5>& c, double lo, double hi, do
   const double reach = std::fmax(r - a1, b1 - r);  // exact (Sterbenz): the farthest t from r
   const double d1 = derivative(c, r);
   const double d1_err = 1e-14 * (((4.0 * std::fabs(c[4]) * r + 3.0 * std::fabs(c[3])) * r + 2.0 * std::fabs(c[2])) * r +
-                                 std::fabs(c[1]));
+                                 std::fabs(c[1])) +
+                        4.0 * underflow_allowance(b1);
   const double f2_max =
-      ((12.0 * std::fabs(c[4]) * b1 + 6.0 * std::fabs(c[3])) * b1 + 2.0 * std::fabs(c[2])) * (1.0 + 1e-12);
+      ((12.0 * std::fabs(c[4]) * b1 + 6.0 * std::fabs(c[3])) * b1 + 2.0 * std::fabs(c[2])) * (1.0 + 1e-12) +
+      16.0 * underflow_allowance(b1);
   if (!(d1 + d1_err + f2_max * reach * (1.0 + 1e-12) < 0.0)) return fail;
   const double E_near = near_error(c, r, b1, reach);
   const double E = horner_error(c, H);
