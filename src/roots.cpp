@@ -295,13 +295,14 @@ double refine_certified(const std::array<double, 5>& c, double lo, double hi, do
   // leaves it becomes an Illinois secant step on the bracket).
   double x = lo + (hi - lo) * (flo / (flo - fhi));
   if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
-  // Where the rounding of fl(f) spans many doubles (|fl(f) - f| / |f'| estimated above 16 ulps
-  // at the first guess), fl(f) nearly always changes sign more than once near the root: the
-  // reference's path decides the last bit, so it is left to run (measured: 99% of such roots).
+  // Where the rounding of fl(f) spans many doubles (|fl(f) - f| / |f'| estimated above 32 ulps
+  // at the first guess), fl(f) mostly changes sign more than once near the root: the
+  // reference's path decides the last bit, so it is left to run at once (the threshold that
+  // measured fastest on the roots of Fig. 3's sweep: 16 and 64 were slower).
   {
     const double abs_sum =
         (((std::fabs(c[4]) * x + std::fabs(c[3])) * x + std::fabs(c[2])) * x + std::fabs(c[1])) * x + std::fabs(c[0]);
-    if (!(unit_roundoff * abs_sum < 16.0 * std::fabs(derivative(c, x)) * (next_up(x) - x))) return fail;
+    if (!(unit_roundoff * abs_sum < 32.0 * std::fabs(derivative(c, x)) * (next_up(x) - x))) return fail;
   }
   int side = 0;  // the end kept by the last secant step (Illinois: halve its value)
   int it = 0;
