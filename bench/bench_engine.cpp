@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -121,49 +122,35 @@ BENCHMARK(BM_BatchedTrajectories)->DenseRange(0, 3)->Unit(benchmark::kMillisecon
 /// like the V's (a centre within 4 radii of the edge point, speeds up to sqrt(gH), a = 0.01):
 /// argument 0, the reference loop; 1, the engine's choice (the certified root, else the loop).
 void BM_EdgeRoot(benchmark::State& st) {
-  struct Bracket {
+  struct Approach {
     std::array<double, 5> c;
-    double lo, hi, flo, fhi;
+    detail::Bracket b;
   };
-  std::vector<Bracket> brackets;
+  std::vector<Approach> approaches;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double a = 0.01;
-  while (brackets.size() < 4096) {
+  while (approaches.size() < 4096) {
     const double dx = 4 * a * u(rng), dy = 4 * a * u(rng), vx = u(rng), vy = u(rng);
     const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
     if (c[0] <= 0.0) continue;
-    std::array<double, 3> crit{};
-    const int n = cubic_real_roots(3.0 * c[3], 2.0 * c[2], c[1], crit);
-    double lo = 0.0, flo = c[0];
-    for (int k = 0; k <= n; ++k) {
-      const double hi = k < n ? crit[static_cast<std::size_t>(k)] : 0.2;
-      if (!(hi > lo) || hi > 0.2) continue;
-      const double fhi = eval_quartic(c, hi);
-      if (flo > 0.0 && fhi <= 0.0) {
-        brackets.push_back({c, lo, hi, flo, fhi});
-        break;
-      }
-      lo = hi;
-      flo = fhi;
-    }
+    if (const auto b = detail::descending_bracket(c, 0.2)) approaches.push_back({c, *b});
   }
   const bool choice = st.range(0) == 1;
   st.SetLabel(choice ? "certified, else reference" : "reference");
   std::int64_t certified = 0, roots = 0;
   for (auto _ : st) {
-    for (const Bracket& b : brackets) {
-      double r = choice ? detail::refine_certified(b.c, b.lo, b.hi, b.flo, b.fhi) : detail::refine_reference(b.c, b.lo, b.hi, b.flo, b.fhi);
-      if (choice) {
-        if (r == r) {
-          ++certified;
-        } else {
-          r = detail::refine_reference(b.c, b.lo, b.hi, b.flo, b.fhi);
-        }
+    for (const Approach& e : approaches) {
+      const detail::Bracket& b = e.b;
+      double r = choice ? detail::refine_certified(e.c, b.lo, b.hi, b.flo, b.fhi) : std::numeric_limits<double>::quiet_NaN();
+      if (r == r) {
+        ++certified;
+      } else {
+        r = detail::refine_reference(e.c, b.lo, b.hi, b.flo, b.fhi);
       }
       benchmark::DoNotOptimize(r);
     }
-    roots += static_cast<std::int64_t>(brackets.size());
+    roots += static_cast<std::int64_t>(approaches.size());
   }
   st.counters["roots_per_second"] = benchmark::Counter(static_cast<double>(roots), benchmark::Counter::kIsRate);
   st.counters["share_certified"] = roots > 0 ? static_cast<double>(certified) / static_cast<double>(roots) : 0.0;

@@ -45,6 +45,7 @@
 #include "funnel/wear.hpp"
 #include "funnel/params.hpp"
 #include "funnel/walton.hpp"
+#include "../tests/plain_refinement.hpp"
 
 namespace {
 
@@ -210,35 +211,16 @@ void check_edge_roots(const std::uint8_t* data, std::size_t size) {
     const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
     if (!(c[0] > 0.0)) continue;
     const double t_end = std::pow(10.0, expo(rng));
-    std::array<double, 3> crit{};
-    const int n = funnel::cubic_real_roots(3.0 * c[3], 2.0 * c[2], c[1], crit);
-    double lo = 0.0, flo = c[0];
-    for (int j = 0; j <= n; ++j) {
-      const double hi = j < n ? crit[static_cast<std::size_t>(j)] : t_end;
-      if (!(hi > lo) || hi > t_end) continue;
-      const double fhi = funnel::eval_quartic(c, hi);
-      if (flo > 0.0 && fhi <= 0.0) {
-        std::snprintf(context, sizeof context, "edge root: c = {%a, %a, %a, %a, %a}, bracket [%a, %a]", c[0], c[1], c[2],
-                      c[3], c[4], lo, hi);
-        double l = lo, h = hi, fl = flo, fh = fhi;  // the plain loop
-        for (int it = 0; it < 200; ++it) {
-          double mid = l + (h - l) * (fl / (fl - fh));
-          if (!(mid > l && mid < h) || it % 3 == 2) mid = 0.5 * (l + h);
-          if (mid <= l || mid >= h) break;
-          const double fm = funnel::eval_quartic(c, mid);
-          (fm > 0.0 ? l : h) = mid;
-          (fm > 0.0 ? fl : fh) = fm;
-        }
-        const double reference = funnel::detail::refine_reference(c, lo, hi, flo, fhi);
-        require(reference == h, "edge root: the reference differs from the plain loop", reference, h);
-        const double certified = funnel::detail::refine_certified(c, lo, hi, flo, fhi);
-        require(certified != certified || certified == reference, "edge root: certified != reference", certified,
-                reference);
-        break;
-      }
-      lo = hi;
-      flo = fhi;
-    }
+    const auto b = funnel::detail::descending_bracket(c, t_end);
+    if (!b) continue;
+    std::snprintf(context, sizeof context, "edge root: c = {%a, %a, %a, %a, %a}, bracket [%a, %a]", c[0], c[1], c[2],
+                  c[3], c[4], b->lo, b->hi);
+    const double plain = funnel::test::plain_refinement(c, b->lo, b->hi, b->flo, b->fhi);
+    const double reference = funnel::detail::refine_reference(c, b->lo, b->hi, b->flo, b->fhi);
+    require(reference == plain, "edge root: the reference differs from the plain loop", reference, plain);
+    const double certified = funnel::detail::refine_certified(c, b->lo, b->hi, b->flo, b->fhi);
+    require(certified != certified || certified == reference, "edge root: certified != reference", certified,
+            reference);
   }
 }
 

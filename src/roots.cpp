@@ -398,7 +398,9 @@ double refine(const std::array<double, 5>& c, double lo, double hi, double flo, 
 
 }  // namespace
 
-double first_descending_root(const std::array<double, 5>& c, double t_end) {
+namespace detail {
+
+std::optional<Bracket> descending_bracket(const std::array<double, 5>& c, double t_end) {
   // Critical points of f: roots of f'(t) = 4 c4 t^3 + 3 c3 t^2 + 2 c2 t + c1.
   const double lead = 4.0 * c[4];
   std::array<double, 3> crit{};
@@ -413,10 +415,17 @@ double first_descending_root(const std::array<double, 5>& c, double t_end) {
   double f_prev = c[0];
   for (int k = 1; k < m; ++k) {
     const double f_next = eval_quartic(c, knots[k]);
-    if (f_prev > 0.0 && f_next <= 0.0) return refine(c, knots[k - 1], knots[k], f_prev, f_next);
+    if (f_prev > 0.0 && f_next <= 0.0) return Bracket{knots[k - 1], knots[k], f_prev, f_next};
     f_prev = f_next;
   }
-  return never;
+  return std::nullopt;
+}
+
+}  // namespace detail
+
+double first_descending_root(const std::array<double, 5>& c, double t_end) {
+  const std::optional<detail::Bracket> b = detail::descending_bracket(c, t_end);
+  return b ? refine(c, b->lo, b->hi, b->flo, b->fhi) : never;
 }
 
 }  // namespace funnel

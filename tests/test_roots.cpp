@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "plain_refinement.hpp"
 #include "test_util.hpp"
 
 namespace funnel {
@@ -111,56 +112,26 @@ TEST(Roots, QuarticStartingOnTheCircleIgnoresTheRootAtZero) {
   EXPECT_TRUE(near(first_descending_root(c, 10.0), 2.0, 1e-14));
 }
 
-/// The edge quartic's root refinement as first written: regula falsi with a bisection every third
-/// step, until lo and hi are adjacent doubles. detail::refine_reference must return its bits.
-double plain_refinement(const std::array<double, 5>& c, double lo, double hi, double flo, double fhi) {
-  for (int it = 0; it < 200; ++it) {
-    double mid = lo + (hi - lo) * (flo / (flo - fhi));
-    if (!(mid > lo && mid < hi) || it % 3 == 2) mid = 0.5 * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    const double fm = eval_quartic(c, mid);
-    if (fm > 0.0) {
-      lo = mid;
-      flo = fm;
-    } else {
-      hi = mid;
-      fhi = fm;
-    }
-  }
-  return hi;
-}
-
-struct Bracket {
+/// An edge approach like the funnel's and the bracket of its first root.
+struct Approach {
   std::array<double, 5> c;
-  double lo, hi, flo, fhi;
+  double t_end;
+  detail::Bracket b;
 };
 
-/// Brackets as first_descending_root forms them, from edge approaches like the funnel's: a
-/// centre within a few radii of an edge point, moving at up to `speed`, over a window t_end.
-std::vector<Bracket> edge_brackets(std::uint64_t seed, int count, double speed) {
+/// Approaches with a root: a centre within a few radii of an edge point, moving at up to
+/// `speed`, over a window t_end; the bracket is first_descending_root's own.
+std::vector<Approach> edge_approaches(std::uint64_t seed, int count, double speed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
-  std::vector<Bracket> out;
+  std::vector<Approach> out;
   const double a = 0.01;
   while (static_cast<int>(out.size()) < count) {
     const double dx = 4 * a * u(rng), dy = 4 * a * u(rng), vx = speed * u(rng), vy = speed * u(rng);
     const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
     if (c[0] <= 0.0) continue;
     const double t_end = 0.3 * unit(rng) + 1e-3;
-    std::array<double, 3> crit{};
-    const int n = cubic_real_roots(3.0 * c[3], 2.0 * c[2], c[1], crit);
-    double lo = 0.0, flo = c[0];
-    for (int k = 0; k <= n; ++k) {
-      const double hi = k < n ? crit[static_cast<std::size_t>(k)] : t_end;
-      if (!(hi > lo) || hi > t_end) continue;
-      const double fhi = eval_quartic(c, hi);
-      if (flo > 0.0 && fhi <= 0.0) {
-        out.push_back({c, lo, hi, flo, fhi});
-        break;
-      }
-      lo = hi;
-      flo = fhi;
-    }
+    if (const auto b = detail::descending_bracket(c, t_end)) out.push_back({c, t_end, *b});
   }
   return out;
 }
@@ -168,9 +139,10 @@ std::vector<Bracket> edge_brackets(std::uint64_t seed, int count, double speed) 
 TEST(Roots, EdgeRootReferenceGivesThePlainLoopsBits) {
   // The reference evaluates a bisection's two possible midpoints ahead of time: the same values.
   for (const double speed : {0.05, 1.0, 5.0}) {
-    for (const Bracket& b : edge_brackets(11, 20000, speed)) {
-      const double plain = plain_refinement(b.c, b.lo, b.hi, b.flo, b.fhi);
-      ASSERT_EQ(detail::refine_reference(b.c, b.lo, b.hi, b.flo, b.fhi), plain) << speed;
+    for (const Approach& e : edge_approaches(11, 20000, speed)) {
+      const detail::Bracket& b = e.b;
+      const double plain = test::plain_refinement(e.c, b.lo, b.hi, b.flo, b.fhi);
+      ASSERT_EQ(detail::refine_reference(e.c, b.lo, b.hi, b.flo, b.fhi), plain) << speed;
     }
   }
 }
@@ -180,14 +152,15 @@ TEST(Roots, CertifiedEdgeRootIsTheReferenceRootOrNothing) {
   // does prove most roots of well-separated approaches.
   for (const double speed : {0.05, 1.0, 5.0}) {
     int certified = 0, total = 0;
-    for (const Bracket& b : edge_brackets(5, 20000, speed)) {
-      const double reference = detail::refine_reference(b.c, b.lo, b.hi, b.flo, b.fhi);
-      const double fast = detail::refine_certified(b.c, b.lo, b.hi, b.flo, b.fhi);
+    for (const Approach& e : edge_approaches(5, 20000, speed)) {
+      const detail::Bracket& b = e.b;
+      const double reference = detail::refine_reference(e.c, b.lo, b.hi, b.flo, b.fhi);
+      const double fast = detail::refine_certified(e.c, b.lo, b.hi, b.flo, b.fhi);
       ++total;
+      ASSERT_EQ(first_descending_root(e.c, e.t_end), reference) << speed << " " << b.lo << " " << b.hi;
       if (fast != fast) continue;
       ++certified;
       ASSERT_EQ(fast, reference) << speed << " " << b.lo << " " << b.hi;
-      if (b.lo == 0.0) ASSERT_EQ(first_descending_root(b.c, b.hi), reference);  // the same bracket
     }
     std::cout << "speed " << speed << ": " << certified << " of " << total << " certified\n";
     EXPECT_GT(certified, total / 3) << "speed " << speed;

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <limits>
+#include <optional>
 
 namespace funnel {
 
@@ -29,6 +30,15 @@ double eval_quartic(const std::array<double, 5>& c, double t);
 double first_descending_root(const std::array<double, 5>& c, double t_end);
 
 namespace detail {
+
+/// A bracket [lo, hi] of a root of the quartic f, with flo = fl(f(lo)) > 0 >= fhi = fl(f(hi)).
+struct Bracket {
+  double lo, hi, flo, fhi;
+};
+
+/// The bracket first_descending_root refines: between consecutive knots (0, the real roots of
+/// f' inside (0, t_end), t_end), the first where fl(f) goes from > 0 to <= 0; none if no root.
+std::optional<Bracket> descending_bracket(const std::array<double, 5>& c, double t_end);
 
 /// The root of the quartic f in a bracket [lo, hi] with flo = fl(f(lo)) > 0 >= fhi = fl(f(hi))
 /// (fl: eval_quartic's rounded values), to the last bit: regula falsi and bisection until lo and

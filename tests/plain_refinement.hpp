@@ -1,0 +1,30 @@
+// The edge quartic's root refinement as first written (test and fuzz support, not the library).
+#pragma once
+
+#include <array>
+
+#include "funnel/roots.hpp"
+
+namespace funnel::test {
+
+/// Regula falsi with a bisection every third step, until lo and hi are adjacent doubles: the
+/// loop that defines an edge-collision time's last bit. detail::refine_reference must return
+/// its bits (it evaluates ahead, the same operations on the same values).
+inline double plain_refinement(const std::array<double, 5>& c, double lo, double hi, double flo, double fhi) {
+  for (int it = 0; it < 200; ++it) {
+    double mid = lo + (hi - lo) * (flo / (flo - fhi));
+    if (!(mid > lo && mid < hi) || it % 3 == 2) mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    const double fm = eval_quartic(c, mid);
+    if (fm > 0.0) {
+      lo = mid;
+      flo = fm;
+    } else {
+      hi = mid;
+      fhi = fm;
+    }
+  }
+  return hi;
+}
+
+}  // namespace funnel::test
