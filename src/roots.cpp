@@ -168,13 +168,16 @@ double underflow_allowance(double b) {
   return 0x1p-1000 * (g * g) * (g * g);
 }
 
+/// sum |c_i| t^i for t >= 0: the size of f's terms, which Horner's rounding is relative to.
+double abs_terms(const std::array<double, 5>& c, double t) {
+  return (((std::fabs(c[4]) * t + std::fabs(c[3])) * t + std::fabs(c[2])) * t + std::fabs(c[1])) * t + std::fabs(c[0]);
+}
+
 /// Bound on |fl(f(t)) - f(t)| for every double t in [0, h]: Horner's gamma_8 sum |c_i| t^i
 /// (degree 4, no fused multiply-add), doubled to cover the rounding of the bound itself.
 double horner_error(const std::array<double, 5>& c, double h) {
   const double gamma8 = 8.0 * unit_roundoff / (1.0 - 8.0 * unit_roundoff);
-  const double abs_sum =
-      (((std::fabs(c[4]) * h + std::fabs(c[3])) * h + std::fabs(c[2])) * h + std::fabs(c[1])) * h + std::fabs(c[0]);
-  return 2.0 * gamma8 * abs_sum + underflow_allowance(h);
+  return 2.0 * gamma8 * abs_terms(c, h) + underflow_allowance(h);
 }
 
 /// True when f > bound on all of [a, a + w] (sign > 0), or f < -bound there (sign < 0), shown by
@@ -299,11 +302,7 @@ double refine_certified(const std::array<double, 5>& c, double lo, double hi, do
   // at the first guess), fl(f) mostly changes sign more than once near the root: the
   // reference's path decides the last bit, so it is left to run at once (the threshold that
   // measured fastest on the roots of Fig. 3's sweep: 16 and 64 were slower).
-  {
-    const double abs_sum =
-        (((std::fabs(c[4]) * x + std::fabs(c[3])) * x + std::fabs(c[2])) * x + std::fabs(c[1])) * x + std::fabs(c[0]);
-    if (!(unit_roundoff * abs_sum < 32.0 * std::fabs(derivative(c, x)) * (next_up(x) - x))) return fail;
-  }
+  if (!(unit_roundoff * abs_terms(c, x) < 32.0 * std::fabs(derivative(c, x)) * (next_up(x) - x))) return fail;
   int side = 0;  // the end kept by the last secant step (Illinois: halve its value)
   int it = 0;
   for (; it < 40; ++it) {
@@ -322,9 +321,7 @@ double refine_certified(const std::array<double, 5>& c, double lo, double hi, do
     }
     if (next_up(lo) >= hi) break;
     // Within rounding of the root (|fl(f)| near its error bound): walk the doubles from here.
-    const double abs_sum =
-        (((std::fabs(c[4]) * x + std::fabs(c[3])) * x + std::fabs(c[2])) * x + std::fabs(c[1])) * x + std::fabs(c[0]);
-    if (std::fabs(fx) <= 8.0 * unit_roundoff * abs_sum) break;
+    if (std::fabs(fx) <= 8.0 * unit_roundoff * abs_terms(c, x)) break;
     double next = x - fx / dx;
     if (!(next > lo && next < hi)) {
       next = lo + (hi - lo) * (flo / (flo - fhi));
