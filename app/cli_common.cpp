@@ -232,4 +232,14 @@ Format to_format(const std::string& text) {
   throw UsageError("invalid format = '" + text + "': valid values are json, csv");
 }
 
+std::vector<std::string> comma_items(const std::string& text) {
+  std::vector<std::string> items;
+  for (std::size_t pos = 0; pos <= text.size();) {
+    const std::size_t comma = std::min(text.find(',', pos), text.size());
+    items.push_back(text.substr(pos, comma - pos));
+    pos = comma + 1;
+  }
+  return items;
+}
+
 }  // namespace funnel::cli

@@ -88,5 +88,9 @@ enum class Format { Json, Csv };
 /// Parses "json" or "csv"; throws UsageError.
 Format to_format(const std::string& text);
 
+/// The items of a comma-separated list of names, as written (an empty item stays, for the
+/// caller to reject by name): "a,b" -> {"a", "b"}.
+std::vector<std::string> comma_items(const std::string& text);
+
 
 }  // namespace funnel::cli

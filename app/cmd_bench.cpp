@@ -50,15 +50,11 @@ struct BenchCommand {
     std::vector<std::string> out;
     std::string joined;
     for (const std::string& a : available) joined += (joined.empty() ? "" : ", ") + a;
-    std::size_t begin = 0;
-    while (begin <= simd.size()) {
-      const std::size_t end = std::min(simd.find(',', begin), simd.size());
-      const std::string name = simd.substr(begin, end - begin);
+    for (const std::string& name : comma_items(simd)) {
       if (std::find(available.begin(), available.end(), name) == available.end()) {
         throw UsageError("invalid simd = '" + name + "': valid values on this CPU are all, " + joined);
       }
       out.push_back(name);
-      begin = end + 1;
     }
     return out;
   }

@@ -166,11 +166,7 @@ struct PaperCommand {
     std::vector<FigureSpec> figs = load_figures(paper_dir, quick);
     if (!only.empty()) {
       std::set<std::string> wanted;
-      for (std::size_t pos = 0; pos <= only.size();) {
-        const std::size_t comma = std::min(only.find(',', pos), only.size());
-        wanted.insert(only.substr(pos, comma - pos));
-        pos = comma + 1;
-      }
+      for (const std::string& id : comma_items(only)) wanted.insert(id);
       std::vector<FigureSpec> chosen;
       for (const FigureSpec& f : figs) {
         if (wanted.erase(f.id) > 0) chosen.push_back(f);
