@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -147,6 +149,31 @@ TEST_F(Cli, ClosedReportsThePeriodicFraction) {
   EXPECT_NE(json.find("\"x_last_over_L\""), std::string::npos);
   expect_rejected(run("closed --gap 0.04 --out " + path("x.json")), "gap", "0.04");
   expect_rejected(run("closed --t-max 0 --out " + path("x.json")), "t-max", "0");
+}
+
+TEST_F(Cli, PaperRunsTheFrictionlessCurveOnceForEveryBeta0) {
+  // Fig. 3's quick grid: 81 angles x 6 mu x 3 beta0, the mu = 0 curve shared by the three panels
+  // (beta0 changes no bit without friction; Ensemble.FrictionlessEnsemblesDoNotDependOnBeta0).
+  const Result r = run("paper --quick --no-plots --only fig03 --out " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find(" " + std::to_string(81 * (6 * 3 - 2)) + " ensembles of θ sweeps"), std::string::npos) << r.output;
+  // Its rows, beta0 and the panel apart, are the same in the three panels.
+  std::map<std::string, std::set<std::string>> rows;  // theta -> the mu = 0 rows without panel, beta0
+  std::istringstream csv(read("p/fig03/fig03.csv"));
+  std::string line;
+  std::getline(csv, line);
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    ASSERT_GT(f.size(), 5u);
+    if (f[3] != "0") continue;
+    std::string rest;
+    for (std::size_t i = 0; i < f.size(); ++i) rest += i == 0 || i == 4 ? std::string(",") : f[i] + ",";
+    rows[f[1]].insert(rest);
+  }
+  EXPECT_EQ(rows.size(), 81u);
+  for (const auto& [theta, variants] : rows) EXPECT_EQ(variants.size(), 1u) << theta;
 }
 
 TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {

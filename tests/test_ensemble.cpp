@@ -122,6 +122,51 @@ TEST(Ensemble, MirrorHalvingGivesExactlyTheDirectSimulationOfEverySample) {
   }
 }
 
+TEST(Ensemble, FrictionlessEnsemblesDoNotDependOnBeta0) {
+  // `funnel paper` runs mu = 0 once for every beta0 (Figs. 3-5's three panels share that curve):
+  // without friction beta0 must change no bit of any sample. Covered here: collapses (5 deg),
+  // edge-heavy angles, a closed funnel, an asymmetric V with a spout, and a spinning release.
+  struct Case {
+    double theta, gap, theta_right, spout, spin;
+  };
+  const Case cases[] = {{5, 0.04, Params::unset, 0, 0},   {20, 0.04, Params::unset, 0, 0},
+                        {44, 0.04, Params::unset, 0, 0},  {46, 0.04, Params::unset, 0, 0.7},
+                        {60, 0.04, Params::unset, 0, 0},  {80, 0.04, Params::unset, 0, 0},
+                        {50, 0.0, Params::unset, 0, 0},   {40, 0.04, 55, 0.2, -0.3}};
+  for (const Case& c : cases) {
+    Params p = default_params();
+    p.theta = c.theta;
+    p.gap = c.gap;
+    p.theta_right = c.theta_right;
+    p.spout_length = c.spout;
+    p.release_spin = c.spin;
+    p.mu = 0.0;
+    p.t_max = 200.0;
+    const EnsembleOptions opt{200, ReleaseDist::Line, 2, true};
+    p.beta0 = 0.0;
+    const EnsembleResult base = run_ensemble(p, opt);
+    ASSERT_GT(base.total_collisions, 400) << c.theta;  // at least two collisions per sample
+    for (const double beta0 : {-0.9, -0.31, 0.31, 1.0}) {
+      p.beta0 = beta0;
+      const EnsembleResult r = run_ensemble(p, opt);
+      EXPECT_EQ(r.total_collisions, base.total_collisions) << c.theta << " " << beta0;
+      for (std::size_t k = 0; k < r.per_sample.size(); ++k) {
+        for (const ObservableInfo& o : observables()) {
+          const double a = value(r.per_sample[k].trajectory, o.id), b = value(base.per_sample[k].trajectory, o.id);
+          EXPECT_TRUE(same_bits(a, b) || (std::isnan(a) && std::isnan(b))) << o.name << " " << c.theta << " " << beta0 << " " << k;
+        }
+      }
+      for (const ObservableInfo& o : observables()) expect_identical(r[o.id], base[o.id]);
+    }
+    // With friction beta0 matters (the test would see a difference).
+    p.mu = 0.2;
+    p.beta0 = 0.0;
+    const double with_friction = run_ensemble(p, opt)[Observable::Duration].mean;
+    p.beta0 = 0.31;
+    EXPECT_NE(run_ensemble(p, opt)[Observable::Duration].mean, with_friction) << c.theta;
+  }
+}
+
 TEST(Ensemble, SteeperThan45DegreesHoldsTheParticleMoreThanTwiceAsLong) {
   // The paper's headline (Fig. 3a, mu = 1): e = 0.99, beta0 = 0, N = 4000.
   Params p = default_params();

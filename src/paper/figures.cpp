@@ -331,7 +331,19 @@ FigureData periodic_fraction(const FigureSpec& fig, int threads, const Progress&
 
 }  // namespace
 
-SweepCache::Key SweepCache::key(const Params& p, ReleaseDist dist, std::int64_t samples) {
+Params SweepCache::canonical(const Params& p) {
+  // Without friction beta0 enters no result: Walton's law slides whenever the slip is not 0
+  // (mu (1 + e)(1 + 1/kappa)|p| = 0 < (1 + beta0)|s| for beta0 > -1) with a tangential impulse
+  // of -0 * J_N = +-0, and sticks only at s = +-0, where -(1 + beta0) s / (1 + 1/kappa) is the same
+  // signed zero; the sustained contacts' friction is mu N = 0. Every trajectory, and so every
+  // ensemble, is the same bit for bit (test: FrictionlessEnsemblesDoNotDependOnBeta0).
+  Params c = p;
+  if (c.mu == 0.0 && c.beta0 > -1.0 && !c.profile) c.beta0 = 0.0;
+  return c;
+}
+
+SweepCache::Key SweepCache::key(const Params& params, ReleaseDist dist, std::int64_t samples) {
+  const Params p = canonical(params);
   std::string k;
   for (const std::string& name : sweep_parameter_names()) k += number(get_parameter(p, name)) + ",";
   return {k, static_cast<int>(dist), samples};
@@ -346,7 +358,7 @@ SweepCache::SweepCache(SweepRunner runner) : runner_(std::move(runner)) {
 }
 
 void SweepCache::request(const Params& params, ReleaseDist dist, std::int64_t samples) {
-  entries_.try_emplace(key(params, dist, samples), Entry{params, dist, samples, {}, false});
+  entries_.try_emplace(key(params, dist, samples), Entry{canonical(params), dist, samples, {}, false});
 }
 
 void SweepCache::run(int threads, const Progress& progress) {

@@ -43,6 +43,9 @@ class SweepCache {
  private:
   using Key = std::tuple<std::string, int, std::int64_t>;
   static Key key(const Params& params, ReleaseDist dist, std::int64_t samples);
+  /// The parameters that are run for `params`: beta0 = 0 without friction (mu = 0), where beta0
+  /// changes no bit of any result, so that Figs. 3-5's three beta0 panels share their mu = 0 curve.
+  static Params canonical(const Params& params);
   struct Entry {
     Params params;
     ReleaseDist dist;
