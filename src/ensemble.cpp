@@ -79,9 +79,23 @@ constexpr std::int64_t min_chunk = 16;
 
 /// Adds one trajectory to a chunk's statistics.
 void add(ChunkStats& s, const Trajectory& t) {
-  for (const ObservableInfo& o : observables()) {
-    if (o.exited_only && t.status != Status::Exited) continue;
-    s.acc[static_cast<std::size_t>(o.id)].add(value(t, o.id));
+  // The observables in table order (value() for each), the exit ones for exited samples only.
+  const double always[] = {t.duration,
+                           t.impulse,
+                           t.normal_impulse,
+                           t.energy_loss,
+                           static_cast<double>(t.collisions),
+                           static_cast<double>(t.edge_collisions),
+                           static_cast<double>(t.collisions - t.edge_collisions),
+                           static_cast<double>(t.contacts),
+                           static_cast<double>(t.edge_contacts),
+                           t.contact_time};
+  static_assert(std::size(always) == static_cast<std::size_t>(Observable::ExitX));
+  for (std::size_t i = 0; i < std::size(always); ++i) s.acc[i].add(always[i]);
+  if (t.status == Status::Exited) {
+    for (std::size_t i = std::size(always); i < observable_count; ++i) {
+      s.acc[i].add(value(t, static_cast<Observable>(i)));
+    }
   }
   s.exited += t.status == Status::Exited;
   s.rest += t.status == Status::Rest;

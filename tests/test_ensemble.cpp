@@ -307,6 +307,38 @@ void expect_identical(const EnsembleResult& a, const EnsembleResult& b) {
   }
 }
 
+TEST(Ensemble, ChunkStatisticsAreWelfordOverEveryObservableInSampleOrder) {
+  // One chunk (N <= 16) of a mirror-halved line ensemble whose samples partly exit and partly
+  // reach the time cap: its accumulators must be Welford's over value(t, o) of each sample and
+  // then its mirror image, in index order, the exit observables over the exited samples only.
+  Params p = default_params();
+  p.theta = 46.0;
+  p.t_max = 20.0;
+  const EnsembleOptions o{16, ReleaseDist::Line, 1, true};
+  ASSERT_EQ(chunk_count(o.samples), 1);
+  const ChunkStats chunk = run_chunk(p, o, 0);
+  ASSERT_EQ(chunk.samples.size(), 8u);
+  std::array<Accumulator, observable_count> expected{};
+  int exited = 0;
+  for (const Sample& sample : chunk.samples) {
+    for (const Trajectory& t : {sample.trajectory, mirrored(sample.trajectory)}) {
+      exited += t.status == Status::Exited;
+      for (const ObservableInfo& info : observables()) {
+        if (info.exited_only && t.status != Status::Exited) continue;
+        expected[static_cast<std::size_t>(info.id)].add(value(t, info.id));
+      }
+    }
+  }
+  EXPECT_GT(exited, 0);
+  EXPECT_LT(exited, 16);
+  for (const ObservableInfo& info : observables()) {
+    const Accumulator &a = chunk.acc[static_cast<std::size_t>(info.id)], &b = expected[static_cast<std::size_t>(info.id)];
+    EXPECT_EQ(a.n, b.n) << info.name;
+    EXPECT_TRUE(same_bits(a.mean, b.mean) && same_bits(a.m2, b.m2) && same_bits(a.min, b.min) && same_bits(a.max, b.max))
+        << info.name;
+  }
+}
+
 TEST(Ensemble, ChunkPartitionDependsOnTheSampleCountOnly) {
   EXPECT_EQ(chunk_count(1), 1);
   EXPECT_EQ(chunk_count(16), 1);
