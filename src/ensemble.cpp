@@ -79,24 +79,12 @@ constexpr std::int64_t min_chunk = 16;
 
 /// Adds one trajectory to a chunk's statistics.
 void add(ChunkStats& s, const Trajectory& t) {
-  // The observables in table order (value() for each), the exit ones for exited samples only.
-  const double always[] = {t.duration,
-                           t.impulse,
-                           t.normal_impulse,
-                           t.energy_loss,
-                           static_cast<double>(t.collisions),
-                           static_cast<double>(t.edge_collisions),
-                           static_cast<double>(t.collisions - t.edge_collisions),
-                           static_cast<double>(t.contacts),
-                           static_cast<double>(t.edge_contacts),
-                           t.contact_time};
-  static_assert(std::size(always) == static_cast<std::size_t>(Observable::ExitX));
-  for (std::size_t i = 0; i < std::size(always); ++i) s.acc[i].add(always[i]);
-  if (t.status == Status::Exited) {
-    for (std::size_t i = std::size(always); i < observable_count; ++i) {
-      s.acc[i].add(value(t, static_cast<Observable>(i)));
-    }
-  }
+  // Every observable in table order, the exit ones (ExitX onwards) for exited samples only: a
+  // plain index loop, which the compiler unrolls into straight code (a walk over the observable
+  // table cost half of the statistics' time).
+  constexpr auto first_exit = static_cast<std::size_t>(Observable::ExitX);
+  const std::size_t count = t.status == Status::Exited ? observable_count : first_exit;
+  for (std::size_t i = 0; i < count; ++i) s.acc[i].add(value(t, static_cast<Observable>(i)));
   s.exited += t.status == Status::Exited;
   s.rest += t.status == Status::Rest;
   s.trapped += t.status == Status::Trapped;
