@@ -15,6 +15,7 @@
 #include "funnel/roots.hpp"
 #include "funnel/simd.hpp"
 #include "funnel/walton.hpp"
+#include "../tests/plain_refinement.hpp"
 
 namespace {
 
@@ -132,7 +133,7 @@ void BM_EdgeRoot(benchmark::State& st) {
   const double a = 0.01;
   while (approaches.size() < 4096) {
     const double dx = 4 * a * u(rng), dy = 4 * a * u(rng), vx = u(rng), vy = u(rng);
-    const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
+    const std::array<double, 5> c = funnel::test::edge_approach_quartic(dx, dy, vx, vy, a);
     if (c[0] <= 0.0) continue;
     if (const auto b = detail::descending_bracket(c, 0.2)) approaches.push_back({c, *b});
   }

@@ -208,7 +208,7 @@ void check_edge_roots(const std::uint8_t* data, std::size_t size) {
   for (int k = 0; k < 16; ++k) {
     const double a = std::pow(10.0, expo(rng) / 3.0 - 1.0), speed = std::pow(10.0, expo(rng));
     const double dx = 4 * a * u(rng), dy = 4 * a * u(rng), vx = speed * u(rng), vy = speed * u(rng);
-    const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
+    const std::array<double, 5> c = funnel::test::edge_approach_quartic(dx, dy, vx, vy, a);
     if (!(c[0] > 0.0)) continue;
     const double t_end = std::pow(10.0, expo(rng));
     const auto b = funnel::detail::descending_bracket(c, t_end);

@@ -155,6 +155,8 @@ namespace {
 // iterations). Whenever a step of the proof fails it returns NaN and the reference runs.
 
 constexpr double unit_roundoff = 0x1p-53;
+/// gamma_8 = 8u / (1 - 8u): the relative error bound of eight roundings (Horner at degree 4).
+constexpr double gamma8 = 8.0 * unit_roundoff / (1.0 - 8.0 * unit_roundoff);
 
 /// Below the normal range a rounding is off by up to half the smallest subnormal (2^-1075), in
 /// absolute terms, not by u relatively. The bounds below add a term for that: at most 16 such
@@ -176,7 +178,6 @@ double abs_terms(const std::array<double, 5>& c, double t) {
 /// Bound on |fl(f(t)) - f(t)| for every double t in [0, h]: Horner's gamma_8 sum |c_i| t^i
 /// (degree 4, no fused multiply-add), doubled to cover the rounding of the bound itself.
 double horner_error(const std::array<double, 5>& c, double h) {
-  const double gamma8 = 8.0 * unit_roundoff / (1.0 - 8.0 * unit_roundoff);
   return 2.0 * gamma8 * abs_terms(c, h) + underflow_allowance(h);
 }
 
@@ -229,7 +230,6 @@ bool bernstein_bound(const std::array<double, 5>& c, double a, double w, double 
 /// Each |y_k| at t is bounded by its computed value at r, the rounding at r and at t (gamma_8
 /// times the same sum on absolute values, each) and its largest change over the distance rho.
 double near_error(const std::array<double, 5>& c, double r, double b, double rho) {
-  const double gamma8 = 8.0 * unit_roundoff / (1.0 - 8.0 * unit_roundoff);
   std::array<double, 5> y{};  // |y_k| bounds
   double yk = c[4];           // computed partial sum at r
   double abs_k = std::fabs(c[4]), slope_k = 0.0;  // sum_i |c_i| b^(i-k) and its derivative in b

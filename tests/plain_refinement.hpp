@@ -1,4 +1,5 @@
-// The edge quartic's root refinement as first written (test and fuzz support, not the library).
+// The edge quartic's root as first written, and the quartic of an edge approach (test, fuzz and
+// benchmark support, not the library).
 #pragma once
 
 #include <array>
@@ -6,6 +7,13 @@
 #include "funnel/roots.hpp"
 
 namespace funnel::test {
+
+/// |d + v t - (0, t^2/2)|^2 - a^2 as a quartic in t: a centre at d = (dx, dy) from an edge point,
+/// moving at v = (vx, vy) under gravity, approaching the circle of radius a (src/flight.cpp's
+/// edge_time, for a flight that does not start on the circle).
+inline std::array<double, 5> edge_approach_quartic(double dx, double dy, double vx, double vy, double a) {
+  return {dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
+}
 
 /// Regula falsi with a bisection every third step, until lo and hi are adjacent doubles: the
 /// loop that defines an edge-collision time's last bit. detail::refine_reference must return

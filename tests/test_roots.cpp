@@ -72,7 +72,7 @@ TEST(Roots, QuarticFirstDescendingRootMatchesBruteForce) {
   int found = 0;
   for (int i = 0; i < 300; ++i) {
     const double dx = u(rng), dy = u(rng), vx = u(rng), vy = u(rng), a = 0.3;
-    std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
+    std::array<double, 5> c = test::edge_approach_quartic(dx, dy, vx, vy, a);
     if (c[0] <= 0.0) continue;
     const double t_end = 3.0;
     const double t = first_descending_root(c, t_end);
@@ -128,7 +128,7 @@ std::vector<Approach> edge_approaches(std::uint64_t seed, int count, double spee
   const double a = 0.01;
   while (static_cast<int>(out.size()) < count) {
     const double dx = 4 * a * u(rng), dy = 4 * a * u(rng), vx = speed * u(rng), vy = speed * u(rng);
-    const std::array<double, 5> c{dx * dx + dy * dy - a * a, 2 * (dx * vx + dy * vy), vx * vx + vy * vy - dy, -vy, 0.25};
+    const std::array<double, 5> c = test::edge_approach_quartic(dx, dy, vx, vy, a);
     if (c[0] <= 0.0) continue;
     const double t_end = 0.3 * unit(rng) + 1e-3;
     if (const auto b = detail::descending_bracket(c, t_end)) out.push_back({c, t_end, *b});
