@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -27,6 +28,9 @@ struct Ensemble3Options {
   std::uint64_t seed = 1;     ///< seed of the random release velocities
   int threads = 0;            ///< 0: all cores
   bool keep_samples = false;  ///< also return every trajectory (O(N) memory)
+  /// When set and it becomes true, the trajectories not yet started are skipped and the results
+  /// are incomplete (e.g. Ctrl-C in Python); the caller checks it after the run.
+  std::atomic<bool>* cancel = nullptr;
 };
 
 /// One sample of a 3D ensemble, kept on request.

@@ -271,8 +271,8 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
     With ``space="3d"`` (the funnel revolved about its axis, see :func:`simulate`) the
     releases are "disk" (the default) or "line" at z = 0, ``velocity_sd`` adds random
     horizontal velocities (u, w), and the result holds the statistics of
-    :data:`OBSERVABLES_3D` (orbits included) and ``periodic``; uniform, gaussian, wear_bins
-    and progress are 2D only.
+    :data:`OBSERVABLES_3D` (orbits included) and ``periodic``; uniform, gaussian and
+    wear_bins are 2D only.
 
     Parameters
     ----------
@@ -331,7 +331,8 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
             raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
         result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples),
                                   "disk" if release_dist is None else str(release_dist), _count("threads", threads),
-                                  bool(per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd))
+                                  bool(per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd),
+                                  _progress_callback(progress, "ensemble"))
         if per_sample:
             _text_columns(result["per_sample"], ("status",))
         return result
@@ -396,7 +397,8 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release
         axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
                 if name in model]
         return core.sweep_3d(axes, _count("samples", samples), "disk" if release_dist is None else str(release_dist),
-                             _count("threads", threads), _seed(seed), _scalar("velocity_sd", velocity_sd))
+                             _count("threads", threads), _seed(seed), _scalar("velocity_sd", velocity_sd),
+                             _progress_callback(progress, "sweep"))
     release_dist = "line" if release_dist is None else release_dist
     _check_names("sweep", model)
     axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS if name in model]
@@ -511,9 +513,10 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4
     Returns
     -------
     dict
-        params, periodic_fraction (float), state_counts {periodic, rest, undecided}, and per
-        release (n,): release (x0/L), state (str), x_last_over_L, x_prev_over_L, y_last,
-        y_prev, collisions (int64), time.
+        params (with the caps as t_max and max_collisions), options {max_time, max_collisions,
+        window, slip_tol, height_tol}, periodic_fraction (float), state_counts {periodic, rest,
+        undecided}, and per release (n,): release (x0/L), state (str), x_last_over_L,
+        x_prev_over_L, y_last, y_prev, collisions (int64), time.
 
     Examples
     --------

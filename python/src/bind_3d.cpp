@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <string>
@@ -167,16 +168,25 @@ py::dict simulate_3d(const std::map<std::string, double>& model, double release,
   return d;
 }
 
+/// Runs work(report) without the GIL, reporting progress (callable or None) and checking for
+/// Ctrl-C, which cancels the trajectories not yet started and raises KeyboardInterrupt.
+template <class Work>
+void run_interruptible_3d(funnel::Ensemble3Options& options, const py::object& progress, Work work) {
+  std::atomic<bool> cancel{false};
+  funnel::py_convert::run_reporting(progress, cancel, [&](const funnel::Progress& report) {
+    options.cancel = &cancel;
+    work(report);
+    options.cancel = nullptr;
+  });
+}
+
 py::dict ensemble_3d(const std::map<std::string, double>& model, std::int64_t samples, const std::string& dist,
-                     int threads, bool per_sample, std::uint64_t seed, double velocity_sd) {
+                     int threads, bool per_sample, std::uint64_t seed, double velocity_sd, const py::object& progress) {
   const funnel::Params params = make_params_3d(model);
   funnel::Ensemble3Options o = options_3d(samples, dist, threads, seed, velocity_sd);
   o.keep_samples = per_sample;
   funnel::Ensemble3Result r;
-  {
-    py::gil_scoped_release nogil;
-    r = funnel::run_ensemble_3d(params, o);
-  }
+  run_interruptible_3d(o, progress, [&](const funnel::Progress& report) { r = funnel::run_ensemble_3d(params, o, report); });
   py::dict d;
   d["space"] = "3d";
   d["params"] = params_dict_3d(params);
@@ -204,7 +214,8 @@ py::dict ensemble_3d(const std::map<std::string, double>& model, std::int64_t sa
 
 /// One 3D ensemble per grid point; axes in the 3D parameter table's order.
 py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>& axes_in, std::int64_t samples,
-                  const std::string& dist, int threads, std::uint64_t seed, double velocity_sd) {
+                  const std::string& dist, int threads, std::uint64_t seed, double velocity_sd,
+                  const py::object& progress) {
   std::vector<funnel::Axis> axes;
   for (const auto& [key, values] : axes_in) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
@@ -224,12 +235,9 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
   for (const funnel::Params& p : points) {
     if (const auto err = funnel::validate(p, funnel::Space::ThreeD)) throw py::value_error(err->message());
   }
-  const funnel::Ensemble3Options o = options_3d(samples, dist, threads, seed, velocity_sd);
+  funnel::Ensemble3Options o = options_3d(samples, dist, threads, seed, velocity_sd);
   std::vector<funnel::Ensemble3Result> results;
-  {
-    py::gil_scoped_release nogil;
-    results = funnel::run_sweep_3d(points, o);
-  }
+  run_interruptible_3d(o, progress, [&](const funnel::Progress& report) { results = funnel::run_sweep_3d(points, o, report); });
   py::dict d;
   const std::size_t n = points.size();
   for (const funnel::ParameterInfo& info : funnel::parameters(funnel::Space::ThreeD)) {
@@ -261,9 +269,9 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
 void bind_3d(py::module_& m) {
   m.def("simulate_3d", &simulate_3d, py::arg("model"), py::arg("release"), py::arg("events"));
   m.def("ensemble_3d", &ensemble_3d, py::arg("model"), py::arg("samples"), py::arg("release_dist"),
-        py::arg("threads"), py::arg("per_sample"), py::arg("seed"), py::arg("velocity_sd"));
+        py::arg("threads"), py::arg("per_sample"), py::arg("seed"), py::arg("velocity_sd"), py::arg("progress"));
   m.def("sweep_3d", &sweep_3d, py::arg("axes"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
-        py::arg("seed"), py::arg("velocity_sd"));
+        py::arg("seed"), py::arg("velocity_sd"), py::arg("progress"));
   m.def("parameters_3d", [] {
     py::list out;
     for (const funnel::ParameterInfo& info : funnel::parameters(funnel::Space::ThreeD)) {

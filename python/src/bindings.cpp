@@ -556,7 +556,7 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
     throw py::value_error("invalid gap = " + funnel::format_number(it->second) + ": closed() needs gap = 0 (the default here)");
   }
   m["gap"] = 0.0;
-  const Params params = make_params(m);
+  Params params = make_params(m);
   const auto dist = funnel::parse_release_dist(release_dist);
   if (!dist) {
     throw py::value_error("invalid release_dist = '" + release_dist + "': valid values are line, disk, uniform, gaussian");
@@ -565,6 +565,9 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   if (!(max_time > 0.0) || max_coll < 1 || window < 1 || !(slip_tol > 0.0) || !(height_tol > 0.0)) {
     throw py::value_error("invalid closed() options: need max_time > 0, max_coll >= 1, window >= 1, slip_tol > 0, height_tol > 0");
   }
+  // The caps are the run's t_max and max_collisions, and its params say so (as funnel closed's).
+  params.t_max = max_time;
+  params.max_collisions = max_coll;
   funnel::ClosedOptions opt;
   opt.max_time = max_time;
   opt.max_collisions = max_coll;
@@ -580,6 +583,9 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   const std::size_t n = r.samples.size();
   py::dict d;
   d["params"] = params_dict(params);
+  d["options"] = py::dict(py::arg("max_time") = opt.max_time, py::arg("max_collisions") = opt.max_collisions,
+                          py::arg("window") = opt.window, py::arg("slip_tol") = opt.slip_tol,
+                          py::arg("height_tol") = opt.height_tol);
   d["periodic_fraction"] = r.periodic_fraction;
   d["state_counts"] = py::dict(py::arg("periodic") = r.periodic, py::arg("rest") = r.rest, py::arg("undecided") = r.undecided);
   d["release"] = column<double>(n, [&](std::size_t i) { return r.samples[i].fraction; });

@@ -65,3 +65,27 @@ def test_options_of_the_other_space_are_refused():
         funnel.simulate(0.3, space="4d")
     with pytest.raises(ValueError, match="release-spin-x = nan"):
         funnel.simulate(0.3, release_spin_x=float("nan"), space="3d")
+
+
+def test_3d_runs_report_progress_and_stop_on_ctrl_c():
+    import signal
+    import time
+
+    seen = []
+    quiet = funnel.ensemble(samples=64, space="3d", theta=60, threads=1)
+    shown = funnel.ensemble(samples=64, space="3d", theta=60, threads=1,
+                            progress=lambda done, total: seen.append((done, total)))
+    assert seen and seen[-1][0] == seen[-1][1] and [d for d, _ in seen] == sorted(d for d, _ in seen)
+    assert shown["duration"] == quiet["duration"]  # watching changes nothing
+    points = []
+    funnel.sweep(samples=16, space="3d", theta=[44, 46], progress=lambda done, total: points.append(total))
+    assert points and points[-1] >= 2
+
+    def interrupt(done, total):
+        signal.raise_signal(signal.SIGINT)
+
+    # About 3 ms per trajectory here: the whole run would take minutes.
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        funnel.ensemble(samples=200_000, space="3d", theta=60, velocity_sd=0.1, threads=1, progress=interrupt)
+    assert time.monotonic() - start < 30

@@ -46,6 +46,17 @@ def test_closed_matches_cli(cli):
     assert py["state"] == ref["per_sample"]["state"]
     assert py["x_last_over_L"].tolist() == ref["per_sample"]["x_last_over_L"]
     assert py["collisions"].dtype == np.int64 and py["collisions"].shape == (60,)
+    # The caps it ran with, reported as funnel closed reports them.
+    assert py["options"] == ref["options"]
+    for key in ("t_max", "max_collisions"):
+        assert py["params"][key] == ref["params"][key]
+
+
+def test_closed_reports_the_caps_it_used():
+    c = funnel.closed(theta=50, e=1, mu=0.01, samples=8, t_max=50.0, max_coll=123456)
+    assert c["params"]["t_max"] == 50.0 and c["options"]["max_time"] == 50.0
+    assert c["params"]["max_collisions"] == 123456 and c["options"]["max_collisions"] == 123456
+    assert c["time"].max() <= 50.0
 
 
 def test_closed_fraction_grows_with_friction_and_rejects_a_gap():
