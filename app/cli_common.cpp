@@ -62,7 +62,16 @@ void add_geometry_option(CLI::App& app, ModelOptions& options) {
 
 Params base_params(const ModelOptions& options) {
   Params p = default_params();
-  if (!options.geometry.empty()) p.profile = read_geometry(options.geometry);
+  if (!options.geometry.empty()) {
+    // The file's walls replace the V: a V parameter given too would be ignored, yet recorded
+    // in the output as if it had been used (and a sweep over it would label equal rows apart).
+    for (const auto& [name, text] : options.given) {
+      if (set_by_geometry(name)) {
+        throw UsageError("invalid " + name + " = " + text + ": valid range is " + std::string(not_with_geometry));
+      }
+    }
+    p.profile = read_geometry(options.geometry);
+  }
   return p;
 }
 

@@ -38,7 +38,7 @@ struct ClosedCommand {
     if (const auto it = m.given.find("gap"); it != m.given.end() && parse_number(it->second) != 0.0) {
       throw UsageError("invalid gap = '" + it->second + "': funnel closed needs gap = 0 (the default here)");
     }
-    m.given["gap"] = "0";
+    if (m.geometry.empty()) m.given["gap"] = "0";  // a geometry file's own walls must close (below)
     // The defaults of this command (the paper's Figs. 11 and 12), where the user gave none.
     for (const auto& [name, value] : closed_defaults) m.given.emplace(name, value);
     const Params params = to_params(m);

@@ -126,6 +126,15 @@ std::string format_number(double value) {
   return ec == std::errc() ? std::string(buf, ptr) : "?";
 }
 
+bool set_by_geometry(std::string_view name) {
+  const ParameterInfo* p = find_parameter(name);
+  if (p == nullptr) return false;
+  for (const std::string_view v : {"theta", "gap", "theta-left", "theta-right", "spout-length"}) {
+    if (p->name == v) return true;
+  }
+  return false;
+}
+
 std::string ParamError::message() const {
   return "invalid " + name + " = " + value + ": valid range is " + range;
 }
@@ -160,7 +169,9 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(params.mu >= 0.0 && std::isfinite(params.mu))) return error("mu", params.mu);
   if (!(params.beta0 >= -1.0 && params.beta0 <= 1.0)) return error("beta0", params.beta0);
   if (!(params.radius > 0.0 && params.radius < 1.0)) return error("radius", params.radius);
-  if (!(params.gap == 0.0 || (params.gap > 2.0 * params.radius && std::isfinite(params.gap)))) {
+  // With a geometry file the V's gap is unused (the file's outlet is checked by validate_profile):
+  // its default must not limit the radius.
+  if (!params.profile && !(params.gap == 0.0 || (params.gap > 2.0 * params.radius && std::isfinite(params.gap)))) {
     ParamError err = error("gap", params.gap);
     err.range += " with radius = " + format_number(params.radius);
     return err;
@@ -186,7 +197,7 @@ std::optional<ParamError> validate(const Params& params) {
                        : !Params::is_unset(params.theta_right) ? "theta-right"
                                                               : "spout-length";
     ParamError err = error(name, find_parameter(name)->get(params));
-    err.range = "not with a geometry file (the file defines the walls)";
+    err.range = not_with_geometry;
     return err;
   }
   for (const double theta : {params.left_angle(), params.right_angle()}) {
@@ -259,6 +270,14 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(std::fabs(params.release_spin_x) <= 1e8)) return error("release-spin-x", params.release_spin_x);
   if (!(std::fabs(params.release_spin_y) <= 1e8)) return error("release-spin-y", params.release_spin_y);
   if (params.profile) return validate_profile(*params.profile, params);
+  return std::nullopt;
+}
+
+std::optional<ParamError> validate_orbit(const Params& params) {
+  if (!(params.theta > 0.0 && params.theta < 90.0)) return error("theta", params.theta);
+  if (!(params.beta0 >= -1.0 && params.beta0 <= 1.0)) return error("beta0", params.beta0);
+  if (!(params.inertia > 0.0 && std::isfinite(params.inertia))) return error("inertia", params.inertia);
+  if (!(params.radius > 0.0 && params.radius < 1.0)) return error("radius", params.radius);
   return std::nullopt;
 }
 

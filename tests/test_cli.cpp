@@ -139,6 +139,13 @@ TEST_F(Cli, OrbitReportsEigenvaluesStabilityAndJacobianAgreement) {
   }
   expect_rejected(run("orbit --theta 60 --e 0.5 --out " + path("x.json")), "e", "orbit");
   expect_rejected(run("orbit --theta 60 --y-star -1 --out " + path("x.json")), "y-star", "-1");
+  // The orbit does not depend on the funnel's gap: a radius above half the default gap (0.04) is
+  // the orbit theory's like any other (it was refused, naming the gap the command does not take).
+  const Result wide = run("orbit --theta 60 --radius 0.02,0.5 --format csv --out " + path("w.csv"));
+  ASSERT_EQ(wide.code, 0) << wide.output;
+  EXPECT_NE(read("w.csv").find("\n60,0,0.4,0.5,"), std::string::npos) << read("w.csv");
+  expect_rejected(run("orbit --theta 60 --radius 1 --out " + path("x.json")), "radius", "1");
+  expect_rejected(run("orbit --theta 90 --out " + path("x.json")), "theta", "90");
 }
 
 TEST_F(Cli, ClosedReportsThePeriodicFraction) {

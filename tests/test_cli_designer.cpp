@@ -217,4 +217,31 @@ TEST_F(Cli, BadGeometriesAreRefusedNamingTheFileTheKeyAndTheRule) {
   EXPECT_EQ(file_count(), 4u);  // the four geometry files, no output
 }
 
+TEST_F(Cli, TheVsAnglesAndGapAreRefusedWithAGeometryFile) {
+  // The file defines the walls: --theta or --gap would be ignored, yet recorded in the output as
+  // if used, and a sweep over them would label equal rows as different funnels.
+  write("ok.toml", "mirror = true\n[left]\nvertices = [[-1, 1], [-0.1, 0]]\n");
+  const std::string geometry = " --geometry " + path("ok.toml");
+  const std::string message = "valid range is not with a geometry file";
+  for (const std::string& command :
+       {"trajectory --release 0.3 --theta 50" + geometry + " --out " + path("t.json"),
+        "ensemble --samples 20 --gap 0.1" + geometry + " --out " + path("e.json"),
+        "closed --samples 20 --theta 50" + geometry + " --out " + path("c.json"),
+        "sweep --samples 20 --theta 40,50" + geometry + " --out " + path("s.csv")}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_TRUE(r.output.find("invalid theta = 50") != std::string::npos ||
+                r.output.find("invalid gap = 0.1") != std::string::npos ||
+                r.output.find("invalid theta = 40,50") != std::string::npos)
+        << r.output;
+  }
+  write("sweep.toml", "[grid]\ntheta = [40, 50]\n");
+  const Result from_config = run("sweep --samples 20 --config " + path("sweep.toml") + geometry + " --out " + path("s.csv"));
+  EXPECT_EQ(from_config.code, 2) << from_config.output;
+  EXPECT_EQ(file_count(), 2u);  // the geometry file and the config, no output
+  // The particle's parameters still go with a file.
+  EXPECT_EQ(run("trajectory --release 0.3 --e 0.9 --radius 0.02" + geometry).code, 0);
+}
+
 }  // namespace

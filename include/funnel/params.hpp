@@ -104,8 +104,19 @@ struct ParamError {
   std::string message() const;
 };
 
+/// The range text of a V parameter given with a geometry file, which defines the walls instead.
+inline constexpr std::string_view not_with_geometry = "not with a geometry file (the file defines the walls)";
+
+/// True for the parameters of the V that a geometry file replaces (theta, gap, theta-left,
+/// theta-right, spout-length; command-line or output name): giving one with a file is bad input.
+bool set_by_geometry(std::string_view name);
+
 /// Checks every field (NaN and infinities included); the first invalid one, if any.
 std::optional<ParamError> validate(const Params& params);
+
+/// The checks of the parameters the period-2 orbit theory reads (theta, beta0, inertia, radius;
+/// funnel orbit): each in its own range, independent of the funnel's gap and release line.
+std::optional<ParamError> validate_orbit(const Params& params);
 
 /// validate(params), then the space: in 2D every 3D-only parameter must be 0.
 std::optional<ParamError> validate(const Params& params, Space space);

@@ -126,6 +126,10 @@ Params make_params(const std::map<std::string, double>& model, const py::object&
   for (const auto& [key, value] : model) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
     if (info == nullptr || !info->option) throw py::type_error("unknown model parameter '" + key + "'");
+    if (p.profile && funnel::set_by_geometry(info->name)) {
+      throw py::value_error(funnel::ParamError{std::string(info->name), funnel::format_number(value),
+                                               std::string(funnel::not_with_geometry)}.message());
+    }
     if (const auto err = funnel::set_parameter_checked(p, info->name, value)) throw py::value_error(err->message());
   }
   if (const auto err = funnel::validate(p, funnel::Space::TwoD)) throw py::value_error(err->message());
@@ -386,6 +390,13 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
                double velocity_sd, const py::object& progress, const py::object& geometry) {
   const Params base = make_params({}, geometry);
   std::vector<funnel::Axis> axes;
+  for (const auto& [key, values] : axes_in) {
+    const funnel::ParameterInfo* info = funnel::find_parameter(key);
+    if (base.profile && info != nullptr && funnel::set_by_geometry(info->name) && !values.empty()) {
+      throw py::value_error(funnel::ParamError{std::string(info->name), funnel::format_number(values.front()),
+                                               std::string(funnel::not_with_geometry)}.message());
+    }
+  }
   for (const std::string& name : funnel::sweep_parameter_names()) {
     for (const auto& [key, values] : axes_in) {
       if (library_name(key) != name) continue;
@@ -525,7 +536,12 @@ py::dict orbit(const std::vector<double>& thetas, double beta0, double inertia, 
   if (!(y_star > 0.0)) throw py::value_error("invalid y-star = " + funnel::format_number(y_star) + ": valid range is y-star > 0");
   std::vector<funnel::orbit::OrbitAnalysis> out;
   for (const double theta : thetas) {
-    make_params({{"theta", theta}, {"beta0", beta0}, {"inertia", inertia}, {"radius", radius}});  // validates
+    Params p = funnel::default_params();
+    p.theta = theta;
+    p.beta0 = beta0;
+    p.inertia = inertia;
+    p.radius = radius;
+    if (const auto err = funnel::validate_orbit(p)) throw py::value_error(err->message());
     out.push_back(funnel::orbit::analyse({theta, beta0, inertia, radius}, y_star));
   }
   const auto n = static_cast<py::ssize_t>(out.size());
