@@ -53,10 +53,17 @@ void add_model_options(CLI::App& app, ModelOptions& options, bool lists, Space s
   }
 }
 
+CLI::Option* nonempty(CLI::Option* option, const std::string& name, const std::string& valid) {
+  return option->each([name, valid](const std::string& value) {
+    if (value.empty()) throw UsageError("invalid " + name + " = '': an empty value; valid values are " + valid);
+  });
+}
+
 void add_geometry_option(CLI::App& app, ModelOptions& options) {
-  app.add_option("--geometry", options.geometry,
-                 "the funnel's walls from a TOML file (vertex lists in units of H; see docs/cli.md, 'Geometry "
-                 "files') instead of the V of --theta/--gap")
+  nonempty(app.add_option("--geometry", options.geometry,
+                          "the funnel's walls from a TOML file (vertex lists in units of H; see docs/cli.md, 'Geometry "
+                          "files') instead of the V of --theta/--gap"),
+           "geometry", "a file path")
       ->type_name("FILE.toml");
 }
 
@@ -121,6 +128,22 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
     axes.push_back({name, std::move(*values)});
   }
   return axes;
+}
+
+void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std::string& why) {
+  double points = 1.0;
+  std::string dims;
+  for (const Axis& a : axes) {
+    points *= static_cast<double>(a.values.size());
+    if (a.values.size() > 1) dims += (dims.empty() ? "" : " x ") + a.name + " " + std::to_string(a.values.size());
+  }
+  if (points <= max_points) return;
+  char count[32];
+  std::snprintf(count, sizeof count, "%.3g", points);
+  char cap[32];
+  std::snprintf(cap, sizeof cap, "%.0e", max_points);
+  throw UsageError("invalid grid = " + dims + ": " + count + " points; valid range is at most " + cap + " points (" + why +
+                   "): use a coarser grid, or split it into several runs");
 }
 
 void validate_all(const std::vector<Params>& points, Space space) {

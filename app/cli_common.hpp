@@ -32,6 +32,10 @@ struct ModelOptions {
 /// Adds --geometry FILE.toml (a funnel of any 2D wall profile) to a command that simulates.
 void add_geometry_option(CLI::App& app, ModelOptions& options);
 
+/// Makes an option that names a file refuse an empty value (exit 2: `--geometry ""` would
+/// otherwise read as not given at all).
+CLI::Option* nonempty(CLI::Option* option, const std::string& name, const std::string& valid);
+
 /// The default parameters with the profile of --geometry, if given.
 Params base_params(const ModelOptions& options);
 
@@ -52,6 +56,10 @@ Space to_space(const std::string& text);
 
 /// Grid axes from list-valued options (and the parameters' defaults for the rest).
 std::vector<Axis> to_axes(const ModelOptions& options);
+
+/// Refuses, before the grid is built, a grid of more than `max_points` points (their product
+/// over the axes): its points and rows are held in memory (a huge grid ended in bad_alloc).
+void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std::string& why);
 
 /// Validates every point of a grid; throws UsageError naming the first invalid one.
 void validate_all(const std::vector<Params>& points, Space space = Space::TwoD);

@@ -251,12 +251,17 @@ void add_paper_command(CLI::App& app, const std::string& command_line) {
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand(
       "paper", "Reproduce the paper's figures: data, pictures and an HTML report in DIR (figures defined in paper/*.toml).");
-  sub->add_option("--out", cmd->out, "output directory (created if needed)")->required()->type_name("DIR");
-  sub->add_option("--only", cmd->only, "comma-separated figures to make, e.g. fig03,fig07 (default: all)")->type_name("FIGS");
+  nonempty(sub->add_option("--out", cmd->out, "output directory (created if needed)"), "out", "a directory path")->required()->type_name("DIR");
+  nonempty(sub->add_option("--only", cmd->only, "comma-separated figures to make, e.g. fig03,fig07 (default: all)"), "only",
+           "comma-separated figure ids, e.g. fig03,fig07")
+      ->type_name("FIGS");
   sub->add_flag("--quick", cmd->quick, "coarse grids and few samples: a preview in well under a minute");
   sub->add_flag("--no-plots", cmd->no_plots, "write the data only, do not call the Python plotting module");
   sub->add_option("--threads", cmd->threads, "worker threads; integer >= 1, or 0 = all cores (default 0)")->type_name("T");
-  sub->add_option("--paper-dir", cmd->paper_dir, "directory of the figure definitions (default: the installation's share/funnel/paper, else the source tree's paper/)")
+  nonempty(sub->add_option("--paper-dir", cmd->paper_dir,
+                           "directory of the figure definitions (default: the installation's share/funnel/paper, "
+                           "else the source tree's paper/)"),
+           "paper-dir", "a directory of figure definitions")
       ->type_name("DIR");
   sub->callback([cmd] { cmd->run(); });
 }

@@ -2,7 +2,10 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <charconv>
+#include <cmath>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -188,9 +191,11 @@ struct SweepCommand {
         sp == Space::ThreeD ? to_ensemble3_options(options, dist_given) : Ensemble3Options{};
     const ReleaseDist dist = sp == Space::ThreeD ? options3.dist : options.dist;
     check_size(axes, options);
+    // Even with --yes: the points, and each one's row of about 2 kB, are held in memory.
+    check_grid_cap(axes, 1e7, "even with --yes: every point's row is held in memory, about 2 kB each");
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
     validate_all(points, sp);
-    const OutputTarget target = resolve_output(out);
+    const OutputTarget target = resolve_output(out, sizeof(".partial") - 1);
 
     std::vector<std::string> cols = param_columns(sp);
     cols.push_back("release_dist");
@@ -221,7 +226,17 @@ struct SweepCommand {
                          " finished points of an interrupted sweep: add --resume to continue it (same grid and "
                          "options), or --overwrite to discard them and start again");
       }
-      if (resume) done = read_partial(partial, spec_line, header, points.size());
+      if (resume) {
+        std::vector<std::string> prefixes;  // each point's parameter columns and release_dist, as written
+        for (const Params& p : points) {
+          std::vector<std::string> row = param_row(p, sp);
+          row.emplace_back(to_string(dist));
+          std::string line = csv_line(row);
+          line.back() = ',';
+          prefixes.push_back(std::move(line));
+        }
+        done = read_partial(partial, spec_line, header, prefixes);
+      }
       write_partial_start(partial, spec_line, header, done);
       if (!done.empty()) {
         std::cerr << "funnel sweep: resuming: " << done.size() << " of " << points.size() << " points already done\n";
@@ -309,9 +324,29 @@ struct SweepCommand {
     std::remove(partial.c_str());
   }
 
-  /// Valid rows of a partial file made by the same sweep; an empty map if there is none.
+  /// A row of this sweep for the point whose columns begin with `prefix`: that prefix, then as
+  /// many numbers (as to_chars writes them, nan included) as the header has columns left.
+  static bool valid_row(const std::string& row, const std::string& prefix, const std::string& header) {
+    if (row.empty() || row.back() != '\n' || row.compare(0, prefix.size(), prefix) != 0) return false;
+    const auto columns = std::count(header.begin(), header.end(), ',') + 1;
+    if (std::count(row.begin(), row.end(), ',') + 1 != columns) return false;
+    for (std::size_t pos = prefix.size(); pos < row.size();) {
+      const std::size_t end = row.find_first_of(",\n", pos);
+      double v = 0.0;
+      const auto [ptr, ec] = std::from_chars(row.data() + pos, row.data() + end, v);
+      if (ec != std::errc() || ptr != row.data() + end) return false;
+      pos = end + 1;
+    }
+    return true;
+  }
+
+  /// Valid rows of a partial file made by the same sweep; an empty map if there is none. A row
+  /// whose parameters are not its point's, or that is not a row of numbers (an edited or damaged
+  /// file), is dropped, and that point computed again.
   static std::map<std::size_t, std::string> read_partial(const std::string& path, const std::string& spec_line,
-                                                         const std::string& header, std::size_t n_points) {
+                                                         const std::string& header,
+                                                         const std::vector<std::string>& prefixes) {
+    const std::size_t n_points = prefixes.size();
     std::map<std::size_t, std::string> rows;
     std::ifstream in(path, std::ios::binary);
     if (!in) return rows;
@@ -323,12 +358,26 @@ struct SweepCommand {
                        "or funnel version); run with --overwrite instead of --resume to discard it");
     }
     std::size_t pos = spec_line.size() + 6 + header.size();
+    std::size_t dropped = 0;
     for (std::size_t eol; (eol = text.find('\n', pos)) != std::string::npos; pos = eol + 1) {
       const std::string line = text.substr(pos, eol + 1 - pos);  // a line cut by a kill has no newline
       const std::size_t comma = line.find(',');
       const auto index = parse_number(line.substr(0, comma));
-      if (comma == std::string::npos || !index || *index < 0 || *index >= static_cast<double>(n_points)) continue;
-      rows[static_cast<std::size_t>(*index)] = line.substr(comma + 1);
+      if (comma == std::string::npos || !index || *index < 0 || *index >= static_cast<double>(n_points) ||
+          *index != std::floor(*index)) {
+        continue;
+      }
+      const auto i = static_cast<std::size_t>(*index);
+      const std::string row = line.substr(comma + 1);
+      if (!valid_row(row, prefixes[i], header)) {
+        ++dropped;
+        continue;
+      }
+      rows[i] = row;
+    }
+    if (dropped > 0) {
+      std::cerr << "funnel sweep: resuming: " << dropped << " row" << (dropped == 1 ? "" : "s") << " of '" << path
+                << "' did not match the grid's points and will be computed again\n";
     }
     return rows;
   }
@@ -353,9 +402,10 @@ void add_sweep_command(CLI::App& app, const std::string& command_line) {
   add_space_option(*sub, cmd->space);
   add_geometry_option(*sub, cmd->model);
   add_ensemble_options(*sub, cmd->ens, true, false);
-  sub->add_option("--config", cmd->config,
-                  "TOML file with the grid: model parameters (number, array or \"start:stop:step\") at the top "
-                  "level or in a [grid] table, samples, release-dist; command-line options override it")
+  nonempty(sub->add_option("--config", cmd->config,
+                           "TOML file with the grid: model parameters (number, array or \"start:stop:step\") at the "
+                           "top level or in a [grid] table, samples, release-dist; command-line options override it"),
+           "config", "a file path")
       ->type_name("FILE.toml");
   sub->add_flag("--resume", cmd->resume,
                 "continue an interrupted sweep from FILE.csv.partial: finished points are not recomputed");

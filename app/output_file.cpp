@@ -104,9 +104,31 @@ void replace_file(const std::string& path, const std::string& target, const std:
   }
 }
 
+/// The temporary file's suffix (replace_file).
+constexpr std::size_t temporary_suffix = sizeof(".tmp.XXXXXX") - 1;
+
+/// Refuses, before any work, a file name that fits but whose temporary file's name (or a side
+/// file's) would not: the run would otherwise end in "File name too long" after its work.
+void check_name_length(const std::string& path, const std::string& target, std::size_t side_suffix) {
+  const std::string dir = parent_of(target);
+  const std::size_t slash = target.find_last_of('/');
+  const std::size_t name = target.size() - (slash == std::string::npos ? 0 : slash + 1);
+  const long limit = pathconf(dir.c_str(), _PC_NAME_MAX);
+  const std::size_t max_name = limit > 0 ? static_cast<std::size_t>(limit) : 255;
+  const std::size_t room = temporary_suffix + side_suffix;
+  if (name + room > max_name) {
+    throw UsageError("invalid out = " + describe(path, target) + ": a file name of " + std::to_string(name) +
+                     " characters; valid range is at most " + std::to_string(max_name > room ? max_name - room : 0) +
+                     " characters (" + std::to_string(max_name) + " in this directory, less " + std::to_string(room) +
+                     " for the " + (side_suffix > 0 ? "side and temporary files" : "temporary file") + " written beside it)");
+  }
+}
+
 }  // namespace
 
-OutputTarget resolve_output(const std::string& path) {
+OutputTarget resolve_output(const std::string& path, std::size_t side_suffix) {
+  // `--out ""` is not "no --out": it names no file (standard output is `-`).
+  if (path.empty()) throw UsageError("invalid out = '': an empty path; valid values are a file path, or - for standard output");
   OutputTarget t;
   std::string cur = path;
   for (int links = 0;; ++links) {
@@ -119,6 +141,7 @@ OutputTarget resolve_output(const std::string& path) {
     if (lstat(cur.c_str(), &st) != 0) {
       if (errno != ENOENT) throw UsageError("invalid out = " + describe(path, cur) + ": " + error_text(errno));
       check_directory(path, cur);  // a new file
+      check_name_length(path, cur, side_suffix);
       t.path = cur;
       return t;
     }
@@ -135,6 +158,7 @@ OutputTarget resolve_output(const std::string& path) {
     if (S_ISREG(st.st_mode)) {
       check_directory(path, cur);
       if (access(cur.c_str(), W_OK) != 0) throw UsageError("invalid out = " + describe(path, cur) + ": is not writable");
+      check_name_length(path, cur, side_suffix);
       t.path = cur;
       return t;
     }

@@ -1,6 +1,7 @@
 // Writing --out safely: regular files are replaced atomically, anything else is written through.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -28,16 +29,18 @@ struct OutputTarget {
   bool regular() const { return kind == Kind::Replace; }
 };
 
-/// Follows the symbolic links of `path` ("-" or "" is standard output); throws UsageError for a
-/// directory, a missing or unwritable directory, a link loop or an unwritable target.
-OutputTarget resolve_output(const std::string& path);
+/// Follows the symbolic links of `path` ("-" is standard output); throws UsageError for an empty
+/// path, a directory, a missing or unwritable directory, a link loop, an unwritable target, or a
+/// file name too long for its temporary file (".tmp.XXXXXX" added), or for a side file of
+/// `side_suffix` characters more (a sweep's ".partial") and that side file's temporary file.
+OutputTarget resolve_output(const std::string& path, std::size_t side_suffix = 0);
 
 /// Checks before any work that `path` can be written (see resolve_output); throws UsageError.
 void check_writable(const std::string& path);
 
 /// Writes `content` to `path`: a regular file (or a new one, also through a symbolic link) via a
 /// temporary file in the target's directory and a rename, so that no partial file is ever left
-/// and its permissions are kept; a device, FIFO or standard output ("-", "", "/dev/stdout") is
+/// and its permissions are kept; a device, FIFO or standard output ("-", "/dev/stdout") is
 /// written through. Throws UsageError for a bad path, OutputError if writing fails.
 void write_output(const std::string& path, const std::string& content);
 

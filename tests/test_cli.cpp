@@ -12,11 +12,14 @@
 #include <vector>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_util.hpp"
 
 namespace {
 
 using namespace funnel_test;
+using nlohmann::json;
 
 TEST_F(Cli, OutOfRangeNanInfAndNonNumbersNameTheParameterValueAndRange) {
   const std::string base = "trajectory --release 0.3 --out " + path("t.json") + " ";
@@ -35,6 +38,44 @@ TEST_F(Cli, OutOfRangeNanInfAndNonNumbersNameTheParameterValueAndRange) {
   expect_rejected(run("ensemble --release-dist cube --out " + path("t.json")), "release-dist", "cube");
   expect_rejected(run("ensemble --threads -3 --out " + path("t.json")), "threads", "-3");
   EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, EmptyFileAndListValuesAreRefusedNotTakenAsAbsent) {
+  // `--out ""` wrote to standard output, `--geometry ""` ran the V, `--only ""` made every figure:
+  // each read an empty value as an option not given.
+  const std::string dir = " --out " + path("d");
+  for (const auto& [command, name] : std::vector<std::pair<std::string, std::string>>{
+           {"trajectory --release 0.3 --out ''", "out"},
+           {"ensemble --samples 10 --out ''", "out"},
+           {"sweep --samples 10 --theta 40 --out ''", "out"},
+           {"orbit --theta 60 --out ''", "out"},
+           {"trajectory --release 0.3 --geometry '' --out " + path("t.json"), "geometry"},
+           {"sweep --samples 10 --theta 40 --config '' --out " + path("s.csv"), "config"},
+           {"paper --quick --no-plots --only ''" + dir, "only"},
+           {"paper --quick --no-plots --paper-dir ''" + dir, "paper-dir"},
+           {"paper --quick --no-plots --out ''", "out"}}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("invalid " + name + " = ''"), std::string::npos) << command << "\n" << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << command << "\n" << r.output.substr(0, 300);
+  }
+  EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, AFileNameWithoutRoomForItsTemporaryFileIsRefusedBeforeAnyWork) {
+  // 255 characters is the usual limit of a name; the temporary file adds 11 (".tmp.XXXXXX") and
+  // a sweep's partial file 8 more. Such names ran the whole computation, then failed (exit 1).
+  const std::string long_name(250, 'a'), sweep_name(240, 'b');
+  Result r = run("ensemble --samples 3000000 --threads 1 --out " + path(long_name));
+  expect_rejected(r, "out", "a file name of 250 characters");
+  EXPECT_NE(r.output.find("at most 244 characters"), std::string::npos) << r.output;
+  r = run("sweep --samples 10 --theta 40 --out " + path(sweep_name));
+  expect_rejected(r, "out", "a file name of 240 characters");
+  EXPECT_NE(r.output.find("at most 236 characters"), std::string::npos) << r.output;
+  EXPECT_EQ(file_count(), 0u);
+  // A name with room for its temporary file is written as usual.
+  ASSERT_EQ(run("ensemble --samples 10 --out " + path(sweep_name)).code, 0);
+  EXPECT_EQ(file_count(), 1u);
 }
 
 TEST_F(Cli, UnknownOptionIsRejected) {
@@ -284,6 +325,32 @@ TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
   const std::string csv = read("other.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2);
   EXPECT_FALSE(fs::exists(path("other.csv.partial")));
+}
+
+TEST_F(Cli, ResumeRecomputesPartialRowsThatAreNotTheGridsOwn) {
+  // A partial file of the same sweep whose rows were edited or damaged: a row with another
+  // theta, one with a word among its statistics, one with a column missing. Each such point is
+  // computed again, so the result is the uninterrupted sweep's, byte for byte.
+  const std::string grid = "sweep --theta 40:44:1 --samples 200 --threads 1 --out ";
+  ASSERT_EQ(run(grid + path("full.csv")).code, 0);
+  const std::string spec = nlohmann::ordered_json::parse(read("full.csv.json"))["spec"].dump();
+  std::vector<std::string> rows;
+  std::stringstream in(read("full.csv"));
+  std::string header;
+  std::getline(in, header);
+  for (std::string line; std::getline(in, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 5u);
+  std::string partial = "# funnel sweep spec: " + spec + "\npoint," + header + "\n";
+  partial += "0,99" + rows[0].substr(rows[0].find(',')) + "\n";                 // another theta
+  partial += "1," + rows[1].substr(0, rows[1].rfind(',')) + ",oops\n";          // a word
+  partial += "2," + rows[2].substr(0, rows[2].rfind(',')) + "\n";               // a column short
+  partial += "3," + rows[3] + "\n";                                             // intact
+  write("cut.csv.partial", partial);
+  const Result r = run(grid + path("cut.csv") + " --resume");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("3 rows of"), std::string::npos) << r.output;
+  EXPECT_EQ(read("cut.csv"), read("full.csv"));
+  EXPECT_EQ(json::parse(read("cut.csv.json"))["resumed_points"], 1);
 }
 
 TEST_F(Cli, RetraceListsOrbitsAndWindowsAndRejectsAnotherMaterial) {

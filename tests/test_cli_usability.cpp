@@ -241,6 +241,12 @@ TEST_F(Cli, HugeSweepsNeedYes) {
   const Result yes = run("sweep --theta 40:50:1 --samples 100000000 --threads 1 --yes" + out);
   expect_rejected(yes, "gap", "0.01");
   EXPECT_EQ(yes.output.find("--yes"), std::string::npos) << yes.output;
+  // Not past memory: 8.8e9 points ended in bad_alloc (exit 1), as did an orbit grid of 1.8e8.
+  const Result absurd = run("sweep --samples 1 --theta 1:89:0.0001 --mu 0:1:0.0001 --yes" + out);
+  expect_rejected(absurd, "grid", "theta 880001 x mu 10001: 8.8e+09 points");
+  EXPECT_NE(absurd.output.find("at most 1e+07 points"), std::string::npos) << absurd.output;
+  const Result orbit = run("orbit --theta 1:89:0.0001 --beta0 -1:1:0.01 --out " + path("o.json"));
+  expect_rejected(orbit, "grid", "theta 880001 x beta0 201: 1.77e+08 points");
   EXPECT_EQ(file_count(), 0u);
 }
 
