@@ -243,15 +243,20 @@ std::optional<ParamError> validate(const Params& params) {
                   " (the release line above the lower ends of the faces)";
       return err;
     }
-    // A subnormal theta (below ~1e-306 degrees) overflows the release line's half-width
-    // L = y_0 / tan(theta), which made every output NaN (found by fuzz/fuzz_parse). A spout
-    // raises y_0 by its length, and an asymmetric V adds the two walls' reaches: each is kept
-    // below a quarter of the largest double (found by fuzz/fuzz_physics, spout 1, 5e-307 degrees).
+    // A wall's reach along the release line, (y_0 + spout) / tan(theta), is kept within
+    // max_vertex_depth H, as the vertex's depth is. A subnormal theta (below ~1e-306 degrees)
+    // overflowed it and made every output NaN (found by fuzz/fuzz_parse; then by fuzz/fuzz_physics
+    // with a spout). A nearly flat wall (1.2e-143 degrees: a reach of 1e141 H) still gave finite
+    // numbers but lost the funnel in their rounding: the particle landed 3.4e125 H out on the flat
+    // wall, and its sliding contact found itself past the wall's lower end at once and jumped to
+    // the edge in no time (found by fuzz/fuzz_physics). Within 1e8 H the rounding of a position
+    // (1.5e-8 H) stays below any radius the engine is tested with.
     const double reach = (params.release_height + params.spout_length + y_bottom) / std::tan(rad);
-    if (!(reach < 0.25 * std::numeric_limits<double>::max())) {
+    if (!(reach <= max_vertex_depth)) {
       ParamError err = error(name, theta);
       err.range = "0 < " + std::string(name) +
-                  " < 90 (degrees) with a finite half-width (H0 + spout-length + y_b)/tan(theta) of the release line";
+                  " < 90 (degrees) with the release line's half-width (H0 + spout-length + y_b)/tan(theta) at most "
+                  "1e8 H";
       return err;
     }
   }

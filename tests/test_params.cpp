@@ -58,6 +58,27 @@ TEST(Params, ClosedFunnelTooSteepForTheParticleIsRejected) {
   EXPECT_FALSE(validate(p).has_value());
 }
 
+TEST(Params, AWallSoFlatThatTheFunnelIsLostInRoundingIsRejected) {
+  // Found by fuzz/fuzz_physics: a right wall at 1.2e-143 degrees reached 1e141 H along the release
+  // line; the particle landed 3.4e125 H out and its contact jumped to the edge in no time.
+  Params p = default_params();
+  p.theta_left = 45.0;
+  p.theta_right = 1.2232148717821405e-143;
+  std::optional<ParamError> err = validate(p);
+  ASSERT_TRUE(err.has_value());
+  EXPECT_EQ(err->name, "theta-right");
+  EXPECT_NE(err->range.find("half-width (H0 + spout-length + y_b)/tan(theta) at most 1e8 H"), std::string::npos)
+      << err->range;
+  p.theta_right = 1e-6;  // a reach of 5.7e7 H: allowed
+  EXPECT_FALSE(validate(p).has_value());
+  p.theta_right = 45.0;
+  p.spout_length = 1e9;  // a spout raises the release line, and the reach with it
+  p.gap = 1.0;
+  err = validate(p);
+  ASSERT_TRUE(err.has_value());
+  EXPECT_EQ(err->name, "theta-left");
+}
+
 TEST(Params, AVertexSoDeepThatTheFunnelsHeightIsLostInRoundingIsRejected) {
   // Found by fuzz/fuzz_physics: a right wall within 1.4e-14 degrees of vertical over a gap of 64
   // put the vertex 5.6e16 H below the outlet, and a release exited beyond the walls.
