@@ -188,9 +188,11 @@ void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool
                  "index: the same samples for any thread count); integer 0 <= seed < 2^64 (default 1)")
       ->type_name("S");
   app.add_option("--release", text.release, "gaussian: mean release position x0/L; -1 < X < 1 (default 0)")
-      ->type_name("X");
+      ->type_name("X")
+      ->each([&text](const std::string&) { text.gaussian_given.emplace_back("release"); });
   app.add_option("--release-sd", text.release_sd, "gaussian: standard deviation of x0/L; 0 < SD <= 10 (default 0.1)")
-      ->type_name("SD");
+      ->type_name("SD")
+      ->each([&text](const std::string&) { text.gaussian_given.emplace_back("release-sd"); });
   if (velocity) {
     app.add_option("--velocity-sd", text.velocity_sd,
                    "standard deviation of a random initial velocity added to each component (u, v; in 3d the "
@@ -243,6 +245,13 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
   o.release_mean = option_number("release", text.release, "-1 < release < 1 (x0/L)");
   o.release_sd = option_number("release-sd", text.release_sd, "0 < release-sd <= 10 (units of L)");
   o.velocity_sd = option_number("velocity-sd", text.velocity_sd, "0 <= velocity-sd <= 1000 (units of sqrt(gH))");
+  // The mean and spread of the gaussian distribution mean nothing to another: silently ignored,
+  // they would leave a run that looks as asked for and is not.
+  if (!text.gaussian_given.empty() && o.dist != ReleaseDist::Gaussian) {
+    const std::string& name = text.gaussian_given.front();
+    throw UsageError("invalid " + name + " = " + (name == "release" ? text.release : text.release_sd) +
+                     ": valid only with --release-dist gaussian (the mean and standard deviation of its x0/L)");
+  }
   const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^6");
   o.wear_bins = static_cast<int>(std::clamp<std::int64_t>(bins, -1, 1'000'001));
   if (const auto err = validate(o)) {

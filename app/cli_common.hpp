@@ -82,6 +82,8 @@ struct EnsembleText {
   std::string velocity_sd = "0";
   std::string wear_bins = "0";
   std::string threads = "0";
+  /// The gaussian distribution's options given ("release", "release-sd"): refused with another.
+  std::vector<std::string> gaussian_given;
 };
 /// Adds the ensemble options; with `velocity` also --velocity-sd, with `wear` --wear-bins.
 void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity = true, bool wear = true);

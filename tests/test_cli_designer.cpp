@@ -62,6 +62,22 @@ TEST_F(Cli, WearBinsSumToTheTotalsInJsonAndCsv) {
   expect_rejected(run("trajectory --release 0.1 --wear-bins 3 --events --format csv"), "wear-bins", "events");
 }
 
+TEST_F(Cli, TheGaussiansMeanAndSpreadAreRefusedWithAnotherDistribution) {
+  // They were ignored: the run looked as asked for and was the plain line's.
+  const std::string out = " --out " + path("e.json");
+  for (const std::string& command : {"ensemble --samples 20 --release 0.5" + out,
+                                     "ensemble --samples 20 --release-dist uniform --release-sd 0.2" + out,
+                                     "ensemble --space 3d --samples 20 --release 0.5 --release-sd 0.2" + out,
+                                     "closed --samples 20 --release 0.5" + out,
+                                     "sweep --samples 20 --theta 40,50 --release-sd 0.2 --out " + path("s.csv")}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("valid only with --release-dist gaussian"), std::string::npos) << command << "\n" << r.output;
+  }
+  EXPECT_EQ(file_count(), 0u);
+  EXPECT_EQ(run("ensemble --samples 20 --release-dist gaussian --release 0.5 --release-sd 0.2" + out).code, 0);
+}
+
 TEST_F(Cli, RandomEnsemblesAreTheSameForAnyThreadCountAndChangeWithTheSeed) {
   const std::string base = "ensemble --theta 52 --samples 300 --release-dist gaussian --release 0.2 "
                            "--release-sd 0.3 --velocity-sd 0.05 --wear-bins 4 ";

@@ -236,6 +236,15 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
     return result
 
 
+def _gaussian(release_dist, release, release_sd):
+    """(mean, sd) of the gaussian releases; ValueError if given with another distribution."""
+    for name, value in (("release", release), ("release_sd", release_sd)):
+        if value is not None and release_dist != "gaussian":
+            raise ValueError(f"invalid {name.replace('_', '-')} = {value}: valid only with release_dist "
+                             f"\"gaussian\" (the mean and standard deviation of its x0/L)")
+    return (0.0 if release is None else release), (0.1 if release_sd is None else release_sd)
+
+
 def _progress_callback(progress, what):
     """A callable (done, total) from ``progress``: True (tqdm if installed, else a line on
     stderr), False/None (nothing) or a callable."""
@@ -264,8 +273,8 @@ def _progress_callback(progress, what):
     return update
 
 
-def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=False, seed=1, release=0.0,
-             release_sd=0.1, velocity_sd=0.0, wear_bins=0, progress=False, space="2d", geometry=None, **model):
+def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=False, seed=1, release=None,
+             release_sd=None, velocity_sd=0.0, wear_bins=0, progress=False, space="2d", geometry=None, **model):
     """Statistics of the observables over ``samples`` releases, like ``funnel ensemble``.
 
     With ``space="3d"`` (the funnel revolved about its axis, see :func:`simulate`) the
@@ -290,8 +299,9 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
     seed : int
         Key of the counter-based random numbers (uniform, gaussian, velocity_sd): sample k's
         random numbers depend on (seed, k) only.
-    release, release_sd : float
-        Mean and standard deviation of x0/L for "gaussian".
+    release, release_sd : float or None
+        Mean and standard deviation of x0/L for "gaussian" (None: 0 and 0.1); refused with
+        another distribution, where they would mean nothing.
     velocity_sd : float
         Standard deviation [sqrt(gH)] of a random velocity added to each component of the
         release velocity (release_u, release_v).
@@ -329,6 +339,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
             raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
         if _wear_bins(wear_bins) != 0:
             raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
+        _gaussian("disk" if release_dist is None else str(release_dist), release, release_sd)
         result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples),
                                   "disk" if release_dist is None else str(release_dist), _count("threads", threads),
                                   bool(per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd),
@@ -337,6 +348,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
             _text_columns(result["per_sample"], ("status",))
         return result
     release_dist = "line" if release_dist is None else release_dist
+    release, release_sd = _gaussian(str(release_dist), release, release_sd)
     result = core.ensemble(_model("ensemble", model), _count("samples", samples), str(release_dist),
                            _count("threads", threads), bool(per_sample), _seed(seed),
                            _scalar("release", release), _scalar("release_sd", release_sd),
@@ -361,7 +373,7 @@ def _axis_values(name, value):
     return [_scalar(name, v) for v in array.tolist()]
 
 
-def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release=0.0, release_sd=0.1,
+def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release=None, release_sd=None,
           velocity_sd=0.0, progress=False, space="2d", geometry=None, **model):
     """One ensemble per point of a parameter grid, like ``funnel sweep``.
 
@@ -394,12 +406,14 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release
         if geometry is not None:
             raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
         _check_names("sweep", model, "3d")
+        _gaussian("disk" if release_dist is None else str(release_dist), release, release_sd)
         axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
                 if name in model]
         return core.sweep_3d(axes, _count("samples", samples), "disk" if release_dist is None else str(release_dist),
                              _count("threads", threads), _seed(seed), _scalar("velocity_sd", velocity_sd),
                              _progress_callback(progress, "sweep"))
     release_dist = "line" if release_dist is None else release_dist
+    release, release_sd = _gaussian(str(release_dist), release, release_sd)
     _check_names("sweep", model)
     axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS if name in model]
     result = core.sweep(axes, _count("samples", samples), str(release_dist), _count("threads", threads),

@@ -107,3 +107,15 @@ def test_the_wear_figure_is_made_and_drawn(cli, tmp_path):
     png = tmp_path / "figwear" / "figwear.png"
     assert png.stat().st_size > 10_000
     assert "Beyond the paper" in (tmp_path / "index.html").read_text()
+
+
+def test_the_gaussians_mean_and_spread_are_refused_with_another_distribution():
+    with pytest.raises(ValueError, match=r"^invalid release-sd = 0.2: valid only with release_dist \"gaussian\""):
+        funnel.ensemble(samples=20, release_sd=0.2)
+    with pytest.raises(ValueError, match=r"^invalid release = 0.5: valid only"):
+        funnel.sweep(samples=20, theta=[40, 50], release_dist="uniform", release=0.5)
+    with pytest.raises(ValueError, match=r"^invalid release = 0.5: valid only"):
+        funnel.ensemble(samples=20, space="3d", release=0.5)
+    g = funnel.ensemble(samples=50, release_dist="gaussian", release=0.5, release_sd=0.2)
+    assert g["release"] == 0.5 and g["release_sd"] == 0.2
+    assert funnel.ensemble(samples=50, release_dist="gaussian")["release_sd"] == 0.1
