@@ -218,7 +218,10 @@ std::optional<ParamError> validate(const Params& params) {
     // its coordinates, and the release line ended up beyond the walls (found by
     // fuzz/fuzz_physics). The vertex must lie within max_vertex_depth H of the outlet.
     if (!(std::fabs(y_bottom) <= max_vertex_depth)) {
-      const bool blame_angle = theta > 45.0;
+      // The angle is named when the wall is within a few 1e-5 degrees of vertical (no gap or
+      // radius of a sane size reaches 1e8 H otherwise), else the gap (a gap of 1e9 at 60 degrees
+      // blamed the angle the user had not set).
+      const bool blame_angle = std::tan(rad) > 1e6;
       ParamError err = error(blame_angle ? name : "gap", blame_angle ? theta : params.gap);
       err.range = std::string(blame_angle ? "0 < " + std::string(name) + " < 90 (degrees)" : "gap >= 0") +
                   " with the vertex within 1e8 H of the outlet: |(gap/2) tan(theta) - radius/cos(theta)| <= 1e8";
@@ -228,11 +231,21 @@ std::optional<ParamError> validate(const Params& params) {
     // The release line must lie above the vertex, where the centre lines meet (this fails only
     // for a wide particle in a very steep closed funnel, or a low release line) ...
     if (!(params.release_height + y_bottom > 0.0)) {
-      const bool blame_angle = params.release_height == 1.0;
-      ParamError err = error(blame_angle ? name : "release-height", blame_angle ? theta : params.release_height);
-      err.range = std::string(blame_angle ? "0 < " + std::string(name) + " < 90 (degrees)" : "release-height > 0") +
+      // Named: a radius or a release height changed from its default (the user's choice, most
+      // likely), else the angle.
+      const Params defaults;
+      const bool blame_radius = params.radius != defaults.radius;
+      const bool blame_height = !blame_radius && params.release_height != defaults.release_height;
+      ParamError err = blame_radius   ? error("radius", params.radius)
+                       : blame_height ? error("release-height", params.release_height)
+                                      : error(name, theta);
+      err.range = std::string(blame_radius   ? "0 < radius < 1"
+                              : blame_height ? "release-height > 0"
+                                             : "0 < " + std::string(name) + " < 90 (degrees)") +
                   " with the release line above the funnel's vertex: release-height + (gap/2) tan(theta) - "
-                  "radius/cos(theta) > 0";
+                  "radius/cos(theta) > 0 (here " + name + " = " + format_number(theta) + ", gap = " +
+                  format_number(params.gap) + ", radius = " + format_number(params.radius) + ", release-height = " +
+                  format_number(params.release_height) + ")";
       return err;
     }
     // ... and, in an open funnel, above the faces' lower ends C* (a cos(theta) above the edges),

@@ -53,9 +53,17 @@ TEST(Params, ClosedFunnelTooSteepForTheParticleIsRejected) {
   p.gap = 0.0;
   p.radius = 0.5;
   p.theta = 70.0;  // release height 1 - a / cos(theta) < 0
-  EXPECT_EQ(validate(p)->name, "theta");
+  // The radius, changed from its default, is named, with the values that combine in the rule.
+  ASSERT_TRUE(validate(p).has_value());
+  EXPECT_EQ(validate(p)->name, "radius");
+  EXPECT_NE(validate(p)->range.find("(here theta = 70, gap = 0, radius = 0.5, release-height = 1)"), std::string::npos)
+      << validate(p)->range;
   p.theta = 45.0;
   EXPECT_FALSE(validate(p).has_value());
+  p = default_params();  // the default radius: a low release line is named
+  p.gap = 0.0;
+  p.release_height = 0.005;
+  EXPECT_EQ(validate(p)->name, "release-height");
 }
 
 TEST(Params, AWallSoFlatThatTheFunnelIsLostInRoundingIsRejected) {
@@ -96,6 +104,8 @@ TEST(Params, AVertexSoDeepThatTheFunnelsHeightIsLostInRoundingIsRejected) {
   p.theta = 30.0;
   p.gap = 1e9;
   ASSERT_TRUE(validate(p).has_value());
+  EXPECT_EQ(validate(p)->name, "gap");
+  p.theta_left = p.theta_right = p.theta = 60.0;  // above 45 degrees too: the gap, not the angle
   EXPECT_EQ(validate(p)->name, "gap");
 }
 
