@@ -391,6 +391,37 @@ TEST_F(Cli, PaperRetraceChecksCanFail) {
   EXPECT_NE(read("p/fig02x/fig02x.json").find("\"holds\": false"), std::string::npos);
 }
 
+TEST_F(Cli, PaperRefusesFigureDefinitionsOutOfRangeBeforeAnyWork) {
+  // A definition read through --paper-dir is input like any other: it ran at theta = 95, e = 7 or
+  // mu = nan without a word, and an unknown kind failed only after other figures were written.
+  const std::string fig12 = read_source(FUNNEL_SOURCE_DIR "/paper/fig12.toml");
+  const std::string fig10 = read_source(FUNNEL_SOURCE_DIR "/paper/fig10.toml");
+  const auto edited = [](std::string text, const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+  };
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {edited(fig12, "thetas = [50, 60, 70]", "thetas = [50, 60, 95]"), "thetas: invalid theta = 95"},
+      {edited(fig12, "e = 1\n", "e = 7\n"), "invalid e = 7"},
+      {edited(fig12, "mus = [0.001,", "mus = [nan,"), "mus: invalid mu = nan"},
+      {edited(fig12, "samples = 4000", "samples = -5"), "invalid samples = -5: valid range is an integer"},
+      {edited(fig12, "kind = \"periodic_fraction\"", "kind = \"bogus\""), "invalid kind = 'bogus': valid kinds are"},
+      {edited(fig12, "samples = 4000", "samples = 4000\nbogus_key = 3"), "unknown key 'bogus_key'"}};
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string dir = path("defs" + std::to_string(i));
+    fs::create_directories(dir);
+    write("defs" + std::to_string(i) + "/fig10.toml", fig10);  // a good figure first: nothing of it written either
+    write("defs" + std::to_string(i) + "/fig12.toml", cases[i].first);
+    const Result r = run("paper --quick --no-plots --paper-dir " + dir + " --out " + path("out" + std::to_string(i)));
+    EXPECT_EQ(r.code, 2) << cases[i].second << "\n" << r.output;
+    EXPECT_NE(r.output.find(cases[i].second), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("fig12.toml"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path("out" + std::to_string(i)))) << cases[i].second;
+  }
+}
+
 TEST_F(Cli, PaperChecksCanFail) {
   // Fig. 2's check (narrow peaks only) applied to a frictional particle, where almost every
   // angle above 45 degrees holds the particle longer than 44 degrees: it must say so.

@@ -39,7 +39,7 @@ def test_a_definition_path_and_bad_figures(tmp_path):
         funnel.paper_figure("fig99")
     bad = tmp_path / "figbad.toml"
     bad.write_text('figure = "figbad"\nkind = "nonsense"\ntitle = "t"\ncaption = "c"\n')
-    with pytest.raises(ValueError, match="unknown kind 'nonsense'"):
+    with pytest.raises(ValueError, match="invalid kind = 'nonsense': valid kinds are theta_sweep"):
         funnel.paper_figure(bad)
     with pytest.raises(ValueError, match="invalid threads = -1"):
         funnel.paper_figure("fig01", threads=-1)

@@ -2,6 +2,7 @@
 #include "funnel/paper/cases.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "funnel/ensemble.hpp"
@@ -72,6 +73,54 @@ void read_params(const toml::table& table, std::map<std::string, double>& into, 
   }
 }
 
+/// The kinds compute_figure knows (src/paper/figures.cpp).
+const std::vector<std::string>& known_kinds() {
+  static const std::vector<std::string> kinds{"theta_sweep",   "release_scan",      "trajectories",   "eigenvalues",
+                                              "closed_final",  "periodic_fraction", "funnel_sketch",  "period2_orbits",
+                                              "retrace_orbits", "retrace_windows",  "wear_profiles",  "cone_3d_sweep"};
+  return kinds;
+}
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+/// Every parameter set the figure can run, checked as the command line checks its own, before
+/// any work: each panel at each grid point, and at each of the figure's thetas, mus and release
+/// positions (a definition read through --paper-dir ran at theta = 95 or e = 7 without a word).
+void validate_figure(const FigureSpec& fig) {
+  const std::string& file = fig.source;
+  for (const Axis& a : fig.grid) {
+    if (a.values.empty()) fail(file, "[grid] " + a.name + " has no values");
+  }
+  for (const PanelSpec& panel : fig.panels) {
+    const std::string where = fig.panels.size() > 1 ? " (panel '" + panel.id + "')" : "";
+    Params base = panel_params(fig, panel);
+    for (const Params& p : expand_grid(base, fig.grid)) {
+      Params q = p;
+      if (panel.theta_right_offset) q.theta_right = q.theta + *panel.theta_right_offset;
+      if (const auto err = validate(q)) fail(file, err->message() + where);
+      for (const double theta : fig.thetas) {
+        Params t = q;
+        t.theta = theta;
+        if (const auto err = validate(t)) fail(file, "thetas: " + err->message() + where);
+      }
+      for (const double mu : fig.mus) {
+        Params m = q;
+        m.mu = mu;
+        if (const auto err = validate(m)) fail(file, "mus: " + err->message() + where);
+      }
+    }
+  }
+  for (const double x : fig.releases) {
+    if (!(x > -1.0 && x < 1.0)) {
+      fail(file, "invalid releases = " + format_number(x) + ": valid range is -1 < release < 1 (x0/L)");
+    }
+  }
+}
+
 }  // namespace
 
 FigureSpec load_figure(const std::string& path, bool quick) {
@@ -80,6 +129,16 @@ FigureSpec load_figure(const std::string& path, bool quick) {
     tbl = toml::parse_file(path);
   } catch (const toml::parse_error& err) {
     fail(path, std::string(err.description()));
+  }
+  static const std::vector<std::string> top_level{"figure",  "kind",         "title",         "caption", "series",
+                                                   "observables", "samples", "release_dist", "release_dists", "thetas",
+                                                   "mus",     "releases",     "params",        "grid",    "panels",
+                                                   "check",   "settings",     "quick"};
+  for (auto&& [k, node] : tbl) {
+    const std::string key(k.str());
+    if (std::find(top_level.begin(), top_level.end(), key) == top_level.end()) {
+      fail(path, "unknown key '" + key + "'; valid keys are " + joined(top_level));
+    }
   }
   FigureSpec fig;
   fig.source = path;
@@ -96,7 +155,14 @@ FigureSpec load_figure(const std::string& path, bool quick) {
   if (const toml::node* n = tbl.get("observables")) fig.observables = n->as_array() && n->as_array()->empty()
                                                                          ? std::vector<std::string>{}
                                                                          : strings_of(*n, path, "observables");
-  if (const toml::node* n = tbl.get("samples")) fig.samples = static_cast<std::int64_t>(number_of(*n, path, "samples"));
+  auto samples_of = [&](const toml::node& n) {
+    const double v = number_of(n, path, "samples");
+    if (!(v >= 1.0 && v <= 1e9 && v == std::floor(v))) {
+      fail(path, "invalid samples = " + format_number(v) + ": valid range is an integer 1 <= samples <= 10^9");
+    }
+    return static_cast<std::int64_t>(v);
+  };
+  if (const toml::node* n = tbl.get("samples")) fig.samples = samples_of(*n);
   if (const toml::node* n = tbl.get("release_dist")) fig.dists = strings_of(*n, path, "release_dist");
   if (const toml::node* n = tbl.get("release_dists")) fig.dists = strings_of(*n, path, "release_dists");
   if (const toml::node* n = tbl.get("thetas")) fig.thetas = numbers_of(*n, path, "thetas");
@@ -139,7 +205,7 @@ FigureSpec load_figure(const std::string& path, bool quick) {
           continue;
         }
         if (key == "samples") {
-          fig.samples = static_cast<std::int64_t>(number_of(node, path, key));
+          fig.samples = samples_of(node);
           continue;
         }
         auto axis = std::find_if(fig.grid.begin(), fig.grid.end(), [&](const Axis& a) { return a.name == key; });
@@ -148,10 +214,13 @@ FigureSpec load_figure(const std::string& path, bool quick) {
       }
     }
   }
-  if (fig.samples < 1) fail(path, "samples must be >= 1");
+  if (std::find(known_kinds().begin(), known_kinds().end(), fig.kind) == known_kinds().end()) {
+    fail(path, "invalid kind = '" + fig.kind + "': valid kinds are " + joined(known_kinds()));
+  }
   for (const std::string& d : fig.dists) {
     if (!parse_release_dist(d)) fail(path, "unknown release_dist '" + d + "' (line, disk, uniform or gaussian)");
   }
+  validate_figure(fig);
   return fig;
 }
 
