@@ -409,9 +409,11 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release
         _gaussian("disk" if release_dist is None else str(release_dist), release, release_sd)
         axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
                 if name in model]
-        return core.sweep_3d(axes, _count("samples", samples), "disk" if release_dist is None else str(release_dist),
-                             _count("threads", threads), _seed(seed), _scalar("velocity_sd", velocity_sd),
-                             _progress_callback(progress, "sweep"))
+        return _text_columns(core.sweep_3d(axes, _count("samples", samples),
+                                           "disk" if release_dist is None else str(release_dist),
+                                           _count("threads", threads), _seed(seed),
+                                           _scalar("velocity_sd", velocity_sd),
+                                           _progress_callback(progress, "sweep")), ("release_dist",))
     release_dist = "line" if release_dist is None else release_dist
     release, release_sd = _gaussian(str(release_dist), release, release_sd)
     _check_names("sweep", model)

@@ -244,6 +244,9 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
     if (!info.option) continue;
     d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return info.get(points[i]); });
   }
+  // As funnel sweep --space 3d's CSV: the distribution and the sample count after the parameters.
+  d["release_dist"] = text_column(n, [&](std::size_t) { return funnel::to_string(o.dist); });
+  d["samples"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].samples; });
   for (const funnel::ObservableInfo& obs : funnel::observables_3d()) {
     if (!obs.summarized) continue;
     for (const char* stat : {"mean", "std", "sem", "min", "max"}) {

@@ -52,6 +52,15 @@ def test_sweep_3d_has_the_3d_columns():
     assert s["theta"].tolist() == [45, 45, 55, 55]
     assert s["release_w"].tolist() == [0.0, 0.05, 0.0, 0.05]
     assert "orbits_mean" in s and "exit_w_mean" in s
+    assert s["release_dist"].tolist() == ["disk"] * 4 and s["samples"].tolist() == [16] * 4
+
+
+def test_sweep_3d_has_the_columns_of_the_cli_csv_in_order(cli, tmp_path):
+    s = funnel.sweep(samples=8, theta=[40, 50], space="3d", threads=1)
+    cli("sweep", "--samples", 8, "--theta", "40,50", "--space", "3d", "--threads", 1, "--out", tmp_path / "s.csv",
+        json_output=False)
+    header = (tmp_path / "s.csv").read_text().splitlines()[0].split(",")
+    assert list(s) == header
 
 
 def test_options_of_the_other_space_are_refused():
