@@ -190,9 +190,10 @@ struct SweepCommand {
     const Ensemble3Options options3 =
         sp == Space::ThreeD ? to_ensemble3_options(options, dist_given) : Ensemble3Options{};
     const ReleaseDist dist = sp == Space::ThreeD ? options3.dist : options.dist;
+    // Even with --yes: each point's row (about 2 kB) is held in memory, and copied once more
+    // into the output.
+    check_grid_cap(axes, 2e6, "even with --yes: every point's row, about 2 kB, is held in memory twice");
     check_size(axes, options);
-    // Even with --yes: the points, and each one's row of about 2 kB, are held in memory.
-    check_grid_cap(axes, 1e7, "even with --yes: every point's row is held in memory, about 2 kB each");
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
     validate_all(points, sp);
     const OutputTarget target = resolve_output(out, sizeof(".partial") - 1);
@@ -325,13 +326,18 @@ struct SweepCommand {
   }
 
   /// A row of this sweep for the point whose columns begin with `prefix`: that prefix, then as
-  /// many numbers (as to_chars writes them, nan included) as the header has columns left.
+  /// many fields as the header has columns left, each a number or empty (an undefined
+  /// statistic, e.g. the exit ones where nothing exited, is written as an empty field).
   static bool valid_row(const std::string& row, const std::string& prefix, const std::string& header) {
     if (row.empty() || row.back() != '\n' || row.compare(0, prefix.size(), prefix) != 0) return false;
     const auto columns = std::count(header.begin(), header.end(), ',') + 1;
     if (std::count(row.begin(), row.end(), ',') + 1 != columns) return false;
     for (std::size_t pos = prefix.size(); pos < row.size();) {
       const std::size_t end = row.find_first_of(",\n", pos);
+      if (end == pos) {  // empty: undefined
+        pos = end + 1;
+        continue;
+      }
       double v = 0.0;
       const auto [ptr, ec] = std::from_chars(row.data() + pos, row.data() + end, v);
       if (ec != std::errc() || ptr != row.data() + end) return false;

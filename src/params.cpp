@@ -231,11 +231,18 @@ std::optional<ParamError> validate(const Params& params) {
     // The release line must lie above the vertex, where the centre lines meet (this fails only
     // for a wide particle in a very steep closed funnel, or a low release line) ...
     if (!(params.release_height + y_bottom > 0.0)) {
-      // Named: a radius or a release height changed from its default (the user's choice, most
-      // likely), else the angle.
+      // Named: the radius or the release height if putting it back to its default satisfies the
+      // rule (the user's choice, most likely), else the angle; the values that combine are given.
+      const auto holds = [&](const Params& q) {
+        return q.release_height + 0.5 * q.gap * std::tan(rad) - q.radius / std::cos(rad) > 0.0;
+      };
       const Params defaults;
-      const bool blame_radius = params.radius != defaults.radius;
-      const bool blame_height = !blame_radius && params.release_height != defaults.release_height;
+      Params q = params;
+      q.radius = defaults.radius;
+      const bool blame_radius = params.radius != defaults.radius && holds(q);
+      q = params;
+      q.release_height = defaults.release_height;
+      const bool blame_height = !blame_radius && params.release_height != defaults.release_height && holds(q);
       ParamError err = blame_radius   ? error("radius", params.radius)
                        : blame_height ? error("release-height", params.release_height)
                                       : error(name, theta);
@@ -264,12 +271,33 @@ std::optional<ParamError> validate(const Params& params) {
     // wall, and its sliding contact found itself past the wall's lower end at once and jumped to
     // the edge in no time (found by fuzz/fuzz_physics). Within 1e8 H the rounding of a position
     // (1.5e-8 H) stays below any radius the engine is tested with.
-    const double reach = (params.release_height + params.spout_length + y_bottom) / std::tan(rad);
-    if (!(reach <= max_vertex_depth)) {
-      ParamError err = error(name, theta);
-      err.range = "0 < " + std::string(name) +
-                  " < 90 (degrees) with the release line's half-width (H0 + spout-length + y_b)/tan(theta) at most "
-                  "1e8 H";
+    const auto reach_of = [&](const Params& q) {
+      return (q.release_height + q.spout_length + (0.5 * q.gap * std::tan(rad) - q.radius / std::cos(rad))) / std::tan(rad);
+    };
+    if (!(reach_of(params) <= max_vertex_depth)) {
+      // Named: the spout, the release height or the gap if putting it back to its default
+      // brings the reach within the limit (a gap of 3e8 at 30 degrees blamed the angle), else
+      // the angle.
+      const Params defaults;
+      const char* blamed = name;
+      double value = theta;
+      std::string range = "0 < " + std::string(name) + " < 90 (degrees)";
+      for (const char* candidate : {"spout-length", "release-height", "gap"}) {
+        const ParameterInfo* info = find_parameter(candidate);
+        if (info->get(params) == info->get(defaults)) continue;
+        Params q = params;
+        info->set(q, info->get(defaults));
+        if (reach_of(q) <= max_vertex_depth) {
+          blamed = candidate;
+          value = info->get(params);
+          range = std::string(candidate) + (std::string_view(candidate) == "release-height" ? " > 0" : " >= 0");
+          break;
+        }
+      }
+      ParamError err = error(blamed, value);
+      err.range = range + " with the release line's half-width (H0 + spout-length + y_b)/tan(theta) at most 1e8 H (here " +
+                  name + " = " + format_number(theta) + ", gap = " + format_number(params.gap) + ", release-height = " +
+                  format_number(params.release_height) + ", spout-length = " + format_number(params.spout_length) + ")";
       return err;
     }
   }

@@ -353,6 +353,27 @@ TEST_F(Cli, ResumeRecomputesPartialRowsThatAreNotTheGridsOwn) {
   EXPECT_EQ(json::parse(read("cut.csv.json"))["resumed_points"], 1);
 }
 
+TEST_F(Cli, ResumeKeepsRowsWithUndefinedStatistics) {
+  // In a closed funnel nothing exits: the exit statistics are empty fields. Such rows are the
+  // sweep's own and must be kept (they were dropped and recomputed as "not the grid's").
+  const std::string grid = "sweep --gap 0 --e 0.9 --theta 40:44:1 --samples 50 --threads 1 --out ";
+  ASSERT_EQ(run(grid + path("full.csv")).code, 0);
+  EXPECT_NE(read("full.csv").find(",,"), std::string::npos);  // the case: undefined statistics
+  const std::string spec = nlohmann::ordered_json::parse(read("full.csv.json"))["spec"].dump();
+  std::stringstream in(read("full.csv"));
+  std::string header, partial;
+  std::getline(in, header);
+  partial = "# funnel sweep spec: " + spec + "\npoint," + header + "\n";
+  int i = 0;
+  for (std::string line; std::getline(in, line) && i < 3; ++i) partial += std::to_string(i) + "," + line + "\n";
+  write("cut.csv.partial", partial);
+  const Result r = run(grid + path("cut.csv") + " --resume");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("did not match"), std::string::npos) << r.output;
+  EXPECT_EQ(json::parse(read("cut.csv.json"))["resumed_points"], 3);
+  EXPECT_EQ(read("cut.csv"), read("full.csv"));
+}
+
 TEST_F(Cli, RetraceListsOrbitsAndWindowsAndRejectsAnotherMaterial) {
   ASSERT_EQ(run("retrace --theta 60,61 --format csv --out " + path("r.csv")).code, 0);
   const std::string csv = read("r.csv");
@@ -420,6 +441,15 @@ TEST_F(Cli, PaperRefusesFigureDefinitionsOutOfRangeBeforeAnyWork) {
     EXPECT_NE(r.output.find("fig12.toml"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(path("out" + std::to_string(i)))) << cases[i].second;
   }
+  // A panel whose right wall follows theta by an offset leaves out the angles it tips past
+  // vertical, as the sweep does: they are not refused (every definition is checked at its full
+  // grid even when another figure is made).
+  fs::create_directories(path("shape"));
+  write("shape/figshape.toml", edited(read_source(FUNNEL_SOURCE_DIR "/paper/figshape.toml"), "theta = \"5:79:1\"",
+                                      "theta = \"5:85:1\""));
+  write("shape/fig01.toml", read_source(FUNNEL_SOURCE_DIR "/paper/fig01.toml"));
+  const Result shape = run("paper --no-plots --only fig01 --paper-dir " + path("shape") + " --out " + path("shape_out"));
+  EXPECT_EQ(shape.code, 0) << shape.output;
 }
 
 TEST_F(Cli, PaperChecksCanFail) {

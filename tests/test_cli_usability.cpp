@@ -244,7 +244,11 @@ TEST_F(Cli, HugeSweepsNeedYes) {
   // Not past memory: 8.8e9 points ended in bad_alloc (exit 1), as did an orbit grid of 1.8e8.
   const Result absurd = run("sweep --samples 1 --theta 1:89:0.0001 --mu 0:1:0.0001 --yes" + out);
   expect_rejected(absurd, "grid", "theta 880001 x mu 10001: 8.8e+09 points");
-  EXPECT_NE(absurd.output.find("at most 1e+07 points"), std::string::npos) << absurd.output;
+  EXPECT_NE(absurd.output.find("at most 2e+06 points"), std::string::npos) << absurd.output;
+  // The cap comes first: --yes would not help, so it is not suggested.
+  const Result capped = run("sweep --samples 1 --theta 1:89:0.001 --mu 0:0.3:0.01" + out);
+  expect_rejected(capped, "grid", "at most 2e+06 points");
+  EXPECT_EQ(capped.output.find("--yes to run it"), std::string::npos) << capped.output;
   const Result orbit = run("orbit --theta 1:89:0.0001 --beta0 -1:1:0.01 --out " + path("o.json"));
   expect_rejected(orbit, "grid", "theta 880001 x beta0 201: 1.77e+08 points");
   EXPECT_EQ(file_count(), 0u);

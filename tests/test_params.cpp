@@ -80,11 +80,21 @@ TEST(Params, AWallSoFlatThatTheFunnelIsLostInRoundingIsRejected) {
   p.theta_right = 1e-6;  // a reach of 5.7e7 H: allowed
   EXPECT_FALSE(validate(p).has_value());
   p.theta_right = 45.0;
-  p.spout_length = 1e9;  // a spout raises the release line, and the reach with it
+  p.spout_length = 1e9;  // a spout raises the release line, and the reach with it: it is named
   p.gap = 1.0;
   err = validate(p);
   ASSERT_TRUE(err.has_value());
-  EXPECT_EQ(err->name, "theta-left");
+  EXPECT_EQ(err->name, "spout-length");
+  p = default_params();  // a gap of 3e8 at 30 degrees: the gap, not the angle
+  p.theta = 30.0;
+  p.gap = 3e8;
+  ASSERT_TRUE(validate(p).has_value());
+  EXPECT_EQ(validate(p)->name, "gap");
+  p = default_params();  // a release line 1e7 H up at 5 degrees: the release height
+  p.theta = 5.0;
+  p.release_height = 1e7;
+  ASSERT_TRUE(validate(p).has_value());
+  EXPECT_EQ(validate(p)->name, "release-height");
 }
 
 TEST(Params, AVertexSoDeepThatTheFunnelsHeightIsLostInRoundingIsRejected) {
