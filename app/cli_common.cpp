@@ -249,8 +249,11 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
   // they would leave a run that looks as asked for and is not.
   if (!text.gaussian_given.empty() && o.dist != ReleaseDist::Gaussian) {
     const std::string& name = text.gaussian_given.front();
-    throw UsageError("invalid " + name + " = " + (name == "release" ? text.release : text.release_sd) +
-                     ": valid only with --release-dist gaussian (the mean and standard deviation of its x0/L)");
+    const bool mean = name == "release";
+    throw UsageError("invalid " + name + " = " + (mean ? text.release : text.release_sd) + ": valid range is " +
+                     (mean ? "-1 < release < 1" : "0 < release-sd <= 10") +
+                     ", with --release-dist gaussian only (a 2D distribution: the " +
+                     (mean ? "mean" : "standard deviation") + " of its x0/L)");
   }
   const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^6");
   o.wear_bins = static_cast<int>(std::clamp<std::int64_t>(bins, -1, 1'000'001));

@@ -135,7 +135,8 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
     Ensemble3Options point_options = options;
     point_options.velocity_sd = velocity_sds[static_cast<std::size_t>(point)];
     for (std::int64_t k = first; k < last; ++k) {
-      // A 3D trajectory may take milliseconds: a cancelled run stops within one of them.
+      // A 3D trajectory may take milliseconds: once cancelled (seen when some block ends), the
+      // blocks under way stop at their next trajectory.
       if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) break;
       const State3 start = ensemble_release_3d(params, cone, point_options, k);
       const Trajectory3 t = simulate_3d(params, cone, start);

@@ -429,7 +429,12 @@ TEST_F(Cli, PaperRefusesFigureDefinitionsOutOfRangeBeforeAnyWork) {
       {edited(fig12, "mus = [0.001,", "mus = [nan,"), "mus: invalid mu = nan"},
       {edited(fig12, "samples = 4000", "samples = -5"), "invalid samples = -5: valid range is an integer"},
       {edited(fig12, "kind = \"periodic_fraction\"", "kind = \"bogus\""), "invalid kind = 'bogus': valid kinds are"},
-      {edited(fig12, "samples = 4000", "samples = 4000\nbogus_key = 3"), "unknown key 'bogus_key'"}};
+      {edited(fig12, "samples = 4000", "samples = 4000\nbogus_key = 3"), "unknown key 'bogus_key'"},
+      {fig12 + "\n[settings]\nbins = 0\n", "invalid settings.bins = 0: valid range is an integer 1 <= bins <= 10^6"},
+      {fig12 + "\n[settings]\ntheta = \"30:95:1\"\n", "invalid settings.theta = 90: valid range is 0 < theta < 90"},
+      {fig12 + "\n[settings]\nscan_gap = 0.001\n", "settings.scan_gap: invalid gap = 0.001"},
+      {fig12 + "\n[settings]\nturns = \"walls\"\n", "invalid turns = 'walls'"},
+      {fig12 + "\n[settings]\nbogus = 1\n", "unknown setting 'bogus'"}};
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string dir = path("defs" + std::to_string(i));
     fs::create_directories(dir);

@@ -72,7 +72,8 @@ TEST_F(Cli, TheGaussiansMeanAndSpreadAreRefusedWithAnotherDistribution) {
                                      "sweep --samples 20 --theta 40,50 --release-sd 0.2 --out " + path("s.csv")}) {
     const Result r = run(command);
     EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
-    EXPECT_NE(r.output.find("valid only with --release-dist gaussian"), std::string::npos) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("valid range is -1 < release < 1, with --release-dist gaussian only") != std::string::npos ||
+                  r.output.find("valid range is 0 < release-sd <= 10, with --release-dist gaussian only"), std::string::npos) << command << "\n" << r.output;
   }
   EXPECT_EQ(file_count(), 0u);
   EXPECT_EQ(run("ensemble --samples 20 --release-dist gaussian --release 0.5 --release-sd 0.2" + out).code, 0);
@@ -255,6 +256,8 @@ TEST_F(Cli, TheVsAnglesAndGapAreRefusedWithAGeometryFile) {
   write("sweep.toml", "[grid]\ntheta = [40, 50]\n");
   const Result from_config = run("sweep --samples 20 --config " + path("sweep.toml") + geometry + " --out " + path("s.csv"));
   EXPECT_EQ(from_config.code, 2) << from_config.output;
+  EXPECT_NE(from_config.output.find("invalid theta = 40,50: valid range is not with a geometry file"), std::string::npos)
+      << from_config.output;
   EXPECT_EQ(file_count(), 2u);  // the geometry file and the config, no output
   // The particle's parameters still go with a file.
   EXPECT_EQ(run("trajectory --release 0.3 --e 0.9 --radius 0.02" + geometry).code, 0);

@@ -238,10 +238,11 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
 
 def _gaussian(release_dist, release, release_sd):
     """(mean, sd) of the gaussian releases; ValueError if given with another distribution."""
-    for name, value in (("release", release), ("release_sd", release_sd)):
+    for name, value, valid, what in (("release", release, "-1 < release < 1", "mean"),
+                                     ("release-sd", release_sd, "0 < release-sd <= 10", "standard deviation")):
         if value is not None and release_dist != "gaussian":
-            raise ValueError(f"invalid {name.replace('_', '-')} = {value}: valid only with release_dist "
-                             f"\"gaussian\" (the mean and standard deviation of its x0/L)")
+            raise ValueError(f"invalid {name} = {value}: valid range is {valid}, with release_dist \"gaussian\" "
+                             f"only (a 2D distribution: the {what} of its x0/L)")
     return (0.0 if release is None else release), (0.1 if release_sd is None else release_sd)
 
 

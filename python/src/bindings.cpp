@@ -584,6 +584,7 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   // The caps are the run's t_max and max_collisions, and its params say so (as funnel closed's).
   params.t_max = max_time;
   params.max_collisions = max_coll;
+  if (const auto err = funnel::validate(params)) throw py::value_error(err->message());  // e.g. max_time = inf
   funnel::ClosedOptions opt;
   opt.max_time = max_time;
   opt.max_collisions = max_coll;

@@ -110,11 +110,11 @@ def test_the_wear_figure_is_made_and_drawn(cli, tmp_path):
 
 
 def test_the_gaussians_mean_and_spread_are_refused_with_another_distribution():
-    with pytest.raises(ValueError, match=r"^invalid release-sd = 0.2: valid only with release_dist \"gaussian\""):
+    with pytest.raises(ValueError, match=r"^invalid release-sd = 0.2: valid range is 0 < release-sd <= 10, with release_dist \"gaussian\" only"):
         funnel.ensemble(samples=20, release_sd=0.2)
-    with pytest.raises(ValueError, match=r"^invalid release = 0.5: valid only"):
+    with pytest.raises(ValueError, match=r"^invalid release = 0.5: valid range is -1 < release < 1, with release_dist"):
         funnel.sweep(samples=20, theta=[40, 50], release_dist="uniform", release=0.5)
-    with pytest.raises(ValueError, match=r"^invalid release = 0.5: valid only"):
+    with pytest.raises(ValueError, match=r"^invalid release = 0.5: valid range is -1 < release < 1, with release_dist"):
         funnel.ensemble(samples=20, space="3d", release=0.5)
     g = funnel.ensemble(samples=50, release_dist="gaussian", release=0.5, release_sd=0.2)
     assert g["release"] == 0.5 and g["release_sd"] == 0.2

@@ -7,6 +7,7 @@
 
 #include "funnel/ensemble.hpp"
 #include "funnel/paper/records.hpp"
+#include "funnel/paper/retrace_records.hpp"
 
 
 namespace funnel::paper {
@@ -85,6 +86,61 @@ std::string joined(const std::vector<std::string>& items) {
   std::string out;
   for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
   return out;
+}
+
+/// One [settings] value: each of its numbers must satisfy `ok` (integers where `integer`).
+void check_setting(const FigureSpec& fig, const std::string& key, const toml::node& node, bool integer,
+                   bool (*ok)(double), const std::string& range) {
+  for (const double v : numbers_of(node, fig.source, "settings." + key)) {
+    if (!ok(v) || (integer && v != std::floor(v))) {
+      fail(fig.source, "invalid settings." + key + " = " + format_number(v) + ": valid range is " + range);
+    }
+  }
+}
+
+/// The kind-specific [settings] (with [quick.settings] merged under --quick): every key known,
+/// every value in its range, as the command line's options of the same meaning are.
+void validate_settings(const FigureSpec& fig) {
+  for (auto&& [k, node] : fig.settings) {
+    const std::string key(k.str());
+    if (key == "theta") {
+      check_setting(fig, key, node, false, [](double v) { return v > 0.0 && v < 90.0; }, "0 < theta < 90 (degrees)");
+    } else if (key == "max_bounces") {
+      check_setting(fig, key, node, true, [](double v) { return v >= 1.0 && v <= 20.0; }, "an integer 1 <= max_bounces <= 20");
+    } else if (key == "scan_points") {
+      check_setting(fig, key, node, true, [](double v) { return v >= 16.0 && v <= 1e6; },
+                    "an integer 16 <= scan_points <= 10^6");
+    } else if (key == "count" || key == "collisions") {
+      check_setting(fig, key, node, true, [](double v) { return v >= 1.0 && v <= 1e6; }, "an integer 1 <= " + key + " <= 10^6");
+    } else if (key == "bins") {
+      check_setting(fig, key, node, true, [](double v) { return v >= 1.0 && v <= 1e6; }, "an integer 1 <= bins <= 10^6");
+    } else if (key == "seed") {
+      check_setting(fig, key, node, true, [](double v) { return v >= 0.0 && v < 9.0e15; }, "an integer 0 <= seed < 9e15");
+    } else if (key == "velocity_sds") {
+      check_setting(fig, key, node, false, [](double v) { return v >= 0.0 && v <= 1000.0; },
+                    "0 <= velocity_sds <= 1000 (units of sqrt(gH))");
+    } else if (key == "y_star" || key == "ratio") {
+      check_setting(fig, key, node, false, [](double v) { return v > 0.0 && std::isfinite(v); }, key + " > 0 (finite)");
+    } else if (key == "scan_gap") {
+      check_setting(fig, key, node, false, [](double v) { return v >= 0.0 && std::isfinite(v); }, "scan_gap >= 0 (finite)");
+      Params p = panel_params(fig, fig.panels.front());
+      p.gap = numbers_of(node, fig.source, key).front();
+      p.e = 1.0;
+      p.mu = 0.0;
+      if (const auto err = validate(p)) fail(fig.source, "settings.scan_gap: " + err->message());
+    } else if (key == "turns") {
+      const auto text = node.value<std::string>();
+      if (!text) fail(fig.source, "settings.turns must be a string: wall or wall,rest");
+      try {
+        (void)parse_turns(*text);
+      } catch (const InputError& e) {
+        fail(fig.source, std::string(e.what()) + " (settings.turns)");
+      }
+    } else {
+      fail(fig.source, "unknown setting '" + key + "'; valid settings are theta, max_bounces, scan_points, turns, "
+                       "scan_gap, count, y_star, ratio, collisions, velocity_sds, seed, bins");
+    }
+  }
 }
 
 /// Every parameter set the figure can run, checked as the command line checks its own, before
@@ -226,6 +282,7 @@ FigureSpec load_figure(const std::string& path, bool quick) {
     if (!parse_release_dist(d)) fail(path, "unknown release_dist '" + d + "' (line, disk, uniform or gaussian)");
   }
   validate_figure(fig);
+  validate_settings(fig);
   return fig;
 }
 
