@@ -8,6 +8,7 @@ H = g = m = 1 (lengths in H, times in sqrt(H/g), impulses in m sqrt(gH), energie
 
 from __future__ import annotations
 
+import math
 import numbers
 import os
 import tomllib
@@ -101,17 +102,36 @@ def _model(function, model, space="2d"):
     return {name: _scalar(name, value) for name, value in model.items()}
 
 
+# The integer options' ranges, as the command line's (beyond them C++ would not even take the
+# number: a pybind11 "incompatible function arguments" dump instead of the range).
+_COUNT_RANGES = {
+    "samples": (1, 10**9, "an integer 1 <= samples <= 10^9"),
+    "threads": (0, 1024, "an integer 0 <= threads <= 1024 (0 = all cores)"),
+    "wear-bins": (0, 10**6, "an integer 0 <= wear-bins <= 10^6"),
+    "max_bounces": (1, 20, "an integer 1 <= max_bounces <= 20"),
+    "scan_points": (16, 10**6, "an integer 16 <= scan_points <= 10^6"),
+    "max_coll": (1, 2**62, "an integer max_coll >= 1"),
+    "window": (1, 10**6, "an integer 1 <= window <= 10^6"),
+    "seed": (0, 2**64 - 1, "an integer 0 <= seed < 2^64"),
+}
+
+
 def _count(name, value):
-    """An integer option (samples, threads); floats are accepted when integral."""
+    """An integer option (samples, threads, ...) in its range; floats are accepted when integral."""
+    lo, hi, text = _COUNT_RANGES.get(name, (-(2**62), 2**62, "an integer"))
     if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be an integer, not bool")
     if isinstance(value, numbers.Integral):
-        return int(value)
-    if isinstance(value, numbers.Real) and float(value).is_integer():
-        return int(value)
-    if isinstance(value, numbers.Real):
-        raise ValueError(f"invalid {name} = {value!r}: not an integer")
-    raise TypeError(f"{name} must be an integer, not {type(value).__name__}")
+        n = int(value)
+    elif isinstance(value, numbers.Real) and math.isfinite(value) and float(value).is_integer():
+        n = int(value)
+    elif isinstance(value, numbers.Real):
+        raise ValueError(f"invalid {name} = {value!r}: not an integer; valid range is {text}")
+    else:
+        raise TypeError(f"{name} must be an integer, not {type(value).__name__}")
+    if not lo <= n <= hi:
+        raise ValueError(f"invalid {name} = {n}: valid range is {text}")
+    return n
 
 
 def _seed(value):
@@ -124,7 +144,7 @@ def _seed(value):
 
 def _wear_bins(value):
     """The wear bins, an integer 0 <= wear_bins <= 10^6."""
-    bins = _count("wear_bins", value)
+    bins = _count("wear-bins", value)
     if not 0 <= bins <= 10**6:
         raise ValueError(f"invalid wear-bins = {bins}: valid range is an integer 0 <= wear-bins <= 10^6 "
                          "(0 = no wear record)")
@@ -366,7 +386,11 @@ def _axis_values(name, value):
         return list(_core().parse_values(name, value))
     if isinstance(value, (numbers.Real, np.generic)) and not isinstance(value, (bool, np.bool_)):
         return [_scalar(name, value)]
+    if isinstance(value, (list, tuple)) and any(isinstance(v, (bool, np.bool_)) for v in value):
+        raise TypeError(f"{name} values must be real numbers, not bool")
     array = np.asarray(value)
+    if array.dtype == np.bool_:
+        raise TypeError(f"{name} values must be real numbers, not bool")
     if array.ndim == 0:
         return [_scalar(name, array.item())]
     if array.ndim != 1:
@@ -474,7 +498,11 @@ def default_params():
 
 def valid_range(name):
     """Text of a parameter's valid range, e.g. valid_range("theta") -> "0 < theta < 90 (degrees)"."""
-    return _core().valid_range(name)
+    text = _core().valid_range(str(name))
+    if not text:
+        raise ValueError(f"invalid name = {name!r}: not a model parameter; valid names are "
+                         f"{', '.join(p['key'] for p in PARAMETERS)}")
+    return text
 
 
 def version():
@@ -512,6 +540,10 @@ def orbit(theta, beta0=0.0, inertia=0.4, radius=0.01, y_star=0.5):
     >>> o["stable"]          # array([False,  True])
     """
     thetas = _axis_values("theta", theta)
+    if not thetas:
+        raise ValueError(f"invalid theta: no values; valid range is {valid_range('theta')}")
+    if len(thetas) > 10**6:
+        raise ValueError(f"invalid theta: {len(thetas)} values; valid range is at most 10^6 (as funnel orbit)")
     return _core().orbit(thetas, _scalar("beta0", beta0), _scalar("inertia", inertia),
                          _scalar("radius", radius), _scalar("y_star", y_star))
 

@@ -228,8 +228,19 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
         throw py::value_error("invalid " + std::string(info.name) + ": no values; valid range is " +
                               std::string(info.range));
       }
+      // expand_grid skips a value set_parameter refuses: 1.5 max-collisions ran uncapped.
+      for (const double v : values) {
+        funnel::Params probe = funnel::default_params();
+        if (const auto err = funnel::set_parameter_checked(probe, info.name, v)) throw py::value_error(err->message());
+      }
       axes.push_back({std::string(info.name), values});
     }
+  }
+  double size = 1.0;
+  for (const funnel::Axis& a : axes) size *= static_cast<double>(a.values.size());
+  if (size > 2e6) {
+    throw py::value_error("invalid grid: " + funnel::format_number(size) +
+                          " points; valid range is at most 2e+06 points (as funnel sweep): split it into several runs");
   }
   const std::vector<funnel::Params> points = funnel::expand_grid(funnel::default_params(), axes);
   for (const funnel::Params& p : points) {

@@ -105,7 +105,15 @@ std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry
     return s;
   };
   const std::optional<funnel::WallSpec> left = side_of(g, "left"), right = side_of(g, "right");
-  const bool mirror = g.contains("mirror") && g["mirror"].cast<bool>();
+  bool mirror = false;
+  if (g.contains("mirror")) {
+    // true or false only, as in a geometry file (a string or a number was a cast error, or true).
+    const py::object m = g["mirror"];
+    if (!py::isinstance<py::bool_>(m) && !py::isinstance(m, py::module_::import("numpy").attr("bool_"))) {
+      throw py::value_error("invalid geometry mirror = " + std::string(py::str(py::repr(m))) + ": valid values are true, false");
+    }
+    mirror = m.cast<bool>();
+  }
   auto spec = std::make_shared<funnel::ProfileSpec>();
   try {
     *spec = funnel::assemble_profile(left, right, mirror);
@@ -419,6 +427,12 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
       if (const auto err = funnel::set_parameter_checked(probe, a.name, v)) throw py::value_error(err->message());
     }
   }
+  double size = 1.0;
+  for (const funnel::Axis& a : axes) size *= static_cast<double>(a.values.size());
+  if (size > 2e6) {
+    throw py::value_error("invalid grid: " + funnel::format_number(size) +
+                          " points; valid range is at most 2e+06 points (as funnel sweep): split it into several runs");
+  }
   const std::vector<Params> points = funnel::expand_grid(base, axes);
   for (const Params& p : points) {
     if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
@@ -533,7 +547,9 @@ py::dict default_params() { return params_dict(funnel::default_params()); }
 
 /// Eigenvalues and stability of the period-2 orbit for each theta (paper Sec. IV, Fig. 10).
 py::dict orbit(const std::vector<double>& thetas, double beta0, double inertia, double radius, double y_star) {
-  if (!(y_star > 0.0)) throw py::value_error("invalid y-star = " + funnel::format_number(y_star) + ": valid range is y-star > 0");
+  if (!(y_star > 0.0 && std::isfinite(y_star))) {
+    throw py::value_error("invalid y-star = " + funnel::format_number(y_star) + ": valid range is y-star > 0 (finite)");
+  }
   std::vector<funnel::orbit::OrbitAnalysis> out;
   for (const double theta : thetas) {
     Params p = funnel::default_params();
@@ -578,9 +594,14 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
     throw py::value_error("invalid release_dist = '" + release_dist + "': valid values are line, disk, uniform, gaussian");
   }
   if (samples < 1) throw py::value_error("invalid samples = " + std::to_string(samples) + ": valid range is samples >= 1");
-  if (!(max_time > 0.0) || max_coll < 1 || window < 1 || !(slip_tol > 0.0) || !(height_tol > 0.0)) {
-    throw py::value_error("invalid closed() options: need max_time > 0, max_coll >= 1, window >= 1, slip_tol > 0, height_tol > 0");
-  }
+  const auto check = [](bool ok, const char* name, double value, const char* range) {
+    if (!ok) throw py::value_error(std::string("invalid ") + name + " = " + funnel::format_number(value) + ": valid range is " + range);
+  };
+  check(max_time > 0.0 && std::isfinite(max_time), "max_time", max_time, "max_time > 0 (finite)");
+  check(max_coll >= 1, "max_coll", static_cast<double>(max_coll), "an integer max_coll >= 1");
+  check(window >= 1 && window <= 1000000, "window", window, "an integer 1 <= window <= 10^6");
+  check(slip_tol > 0.0 && std::isfinite(slip_tol), "slip_tol", slip_tol, "slip_tol > 0 (finite)");
+  check(height_tol > 0.0 && std::isfinite(height_tol), "height_tol", height_tol, "height_tol > 0 (finite)");
   // The caps are the run's t_max and max_collisions, and its params say so (as funnel closed's).
   params.t_max = max_time;
   params.max_collisions = max_coll;

@@ -119,3 +119,29 @@ def test_the_gaussians_mean_and_spread_are_refused_with_another_distribution():
     g = funnel.ensemble(samples=50, release_dist="gaussian", release=0.5, release_sd=0.2)
     assert g["release"] == 0.5 and g["release_sd"] == 0.2
     assert funnel.ensemble(samples=50, release_dist="gaussian")["release_sd"] == 0.1
+
+
+def test_bad_values_found_by_an_audit_of_the_python_interface():
+    # Each was accepted, changed silently, or failed with a pybind11 dump instead of the range.
+    def refused(call, error, message):
+        with pytest.raises(error, match=message):
+            call()
+
+    refused(lambda: funnel.sweep(samples=20, threads=1, space="3d", max_collisions=[2, 2.5]), ValueError,
+            r"^invalid max-collisions = 2.5: valid range is max-collisions >= 1 \(an integer\)")  # ran uncapped
+    refused(lambda: funnel.simulate(0.3, theta_right=math.nan), ValueError, r"^invalid theta-right = nan")  # = theta
+    refused(lambda: funnel.sweep(samples=10, theta=[40, True]), TypeError, "not bool")  # ran at 1 degree
+    refused(lambda: funnel.closed(samples=20, threads=-1), ValueError, r"^invalid threads = -1: valid range")
+    refused(lambda: funnel.closed(samples=20, window=10**7), ValueError, r"^invalid window = 10000000")
+    refused(lambda: funnel.closed(samples=20, slip_tol=math.inf), ValueError, r"^invalid slip_tol = inf")
+    refused(lambda: funnel.orbit([]), ValueError, r"^invalid theta: no values")
+    refused(lambda: funnel.orbit(45, y_star=math.inf), ValueError, r"^invalid y-star = inf")
+    refused(lambda: funnel.paper_figure("fig10", quick=True, threads=1025), ValueError, r"^invalid threads = 1025")
+    refused(lambda: funnel.valid_range("bogus"), ValueError, r"^invalid name = 'bogus'")
+    refused(lambda: funnel.ensemble(samples=2**63), ValueError, r"^invalid samples = 9223372036854775808: valid range")
+    refused(lambda: funnel.ensemble(samples=1.5), ValueError, r"^invalid samples = 1.5: not an integer; valid range")
+    refused(lambda: funnel.sweep(samples=10, threads=1, theta="1:89:0.01", mu="0:1:0.001"), ValueError,
+            r"^invalid grid: 8809801 points; valid range is at most 2e\+06 points")
+    refused(lambda: funnel.geometry(geometry={"left": {"vertices": [[-1, 1], [-0.1, 0]]}, "mirror": "yes"}),
+            ValueError, r"^invalid geometry mirror = 'yes': valid values are true, false")
+    assert funnel.valid_range("theta") == "0 < theta < 90 (degrees)"

@@ -61,7 +61,7 @@ def test_closed_reports_the_caps_it_used():
     assert c["params"]["t_max"] == 50.0 and c["options"]["max_time"] == 50.0
     assert c["params"]["max_collisions"] == 123456 and c["options"]["max_collisions"] == 123456
     assert c["time"].max() <= 50.0
-    with pytest.raises(ValueError, match="invalid t-max = inf"):
+    with pytest.raises(ValueError, match="invalid max_time = inf: valid range is max_time > 0"):
         funnel.closed(theta=50, samples=8, max_time=float("inf"))
 
 
