@@ -158,9 +158,6 @@ std::optional<ParamError> set_parameter_checked(Params& params, std::string_view
   if (p->integer && !(value == std::floor(value) && std::fabs(value) < 9.0e18)) {
     return ParamError{std::string(p->name), format_number(value), std::string(p->range)};
   }
-  // NaN is how theta-left and theta-right say "unset": a NaN given for them would silently
-  // mean theta. No parameter takes NaN (the others' ranges refuse it in validate()).
-  if (std::isnan(value)) return ParamError{std::string(p->name), format_number(value), std::string(p->range)};
   p->set(params, value);
   return std::nullopt;
 }

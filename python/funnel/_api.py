@@ -97,9 +97,17 @@ def _scalar(name, value):
     return float(value)
 
 
+def _not_nan(name, value):
+    """NaN is how the library marks theta_left/theta_right unset: a NaN given would silently mean
+    theta. No parameter takes NaN."""
+    if math.isnan(value):
+        raise ValueError(f"invalid {name.replace('_', '-')} = nan: valid range is {valid_range(name)}")
+    return value
+
+
 def _model(function, model, space="2d"):
     _check_names(function, model, space)
-    return {name: _scalar(name, value) for name, value in model.items()}
+    return {name: _not_nan(name, _scalar(name, value)) for name, value in model.items()}
 
 
 # The integer options' ranges, as the command line's (beyond them C++ would not even take the
@@ -384,6 +392,10 @@ def _axis_values(name, value):
     """Values of one sweep axis from a number, a sequence, an array or a "a,b"/"start:stop:step" text."""
     if isinstance(value, str):
         return list(_core().parse_values(name, value))
+    return [_not_nan(name, v) for v in _axis_numbers(name, value)]
+
+
+def _axis_numbers(name, value):
     if isinstance(value, (numbers.Real, np.generic)) and not isinstance(value, (bool, np.bool_)):
         return [_scalar(name, value)]
     if isinstance(value, (list, tuple)) and any(isinstance(v, (bool, np.bool_)) for v in value):
