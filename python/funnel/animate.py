@@ -25,13 +25,23 @@ from . import trajectory as tr
 CLOSE_UP = 5.0
 
 
+MAX_FRAMES = 20_000  # 16 min at 20 fps
+
+
 def frame_times(t_end, t_start=0.0, speed=None, fps=20, max_seconds=15.0):
     """Simulated times of the frames: from t_start to t_end at `speed` (simulated time per second
     of video; by default the whole interval in at most max_seconds), `fps` frames per second."""
     span = max(0.0, t_end - t_start)
     if speed is None:
         speed = max(span / max_seconds, 1e-12)
-    count = max(2, int(math.ceil(span / speed * fps)) + 1)
+    frames = span / speed * fps
+    if not frames <= MAX_FRAMES:
+        # A slow speed over a long interval asked for millions of frames (hours, or an
+        # allocation of petabytes at 1e-12).
+        raise ValueError(f"invalid speed = {speed:g}: {frames:.3g} frames; valid range is at most {MAX_FRAMES} "
+                         f"frames (speed >= {span * fps / MAX_FRAMES:.3g} for this interval, or a shorter "
+                         "--t-start/--t-end window)")
+    count = max(2, int(math.ceil(frames)) + 1)
     return np.linspace(t_start, t_start + span, count), speed
 
 
@@ -142,13 +152,12 @@ def animate(result, geometry, out, t_start=0.0, t_end=None, speed=None, fps=20, 
     t_end = last if t_end is None else min(float(t_end), last)
     times, speed = frame_times(t_end, t_start, speed, fps)
     writer = writer_for(out, fps)
+    from ._files import replacing
     out = Path(out)
-    tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-    with matplotlib.rc_context(STYLE):
+    with matplotlib.rc_context(STYLE), replacing(out) as tmp:  # never a partial file, nor a stray temporary
         fig, update = build_animation(result, geometry, times)
         movie = animation.FuncAnimation(fig, update, frames=len(times), blit=False)
         movie.save(str(tmp), writer=writer, dpi=dpi)
-    tmp.replace(out)  # never a partial file under the final name
     return len(times), speed, spin_step(geometry, events, times)
 
 
@@ -176,11 +185,18 @@ def main(argv=None):
         parser.error(f"invalid t-end = {args.t_end}: valid range is t-end > t-start ({args.t_start:g})")
     try:
         writer_for(args.out, args.fps)
+        from ._files import check_output
+        check_output(args.out)  # before the simulation, not after it
         result, geometry = tr.simulate_for_plot(args.release, **tr.model_arguments(args))
     except ValueError as error:
         parser.error(str(error))
     if args.t_start >= float(result["duration"]):
         parser.error(f"invalid t-start = {args.t_start:g}: the trajectory ends at t = {result['duration']:.6g}")
+    last = float(result["events"]["time"][-1]) if len(result["events"]["time"]) else 0.0
+    try:
+        frame_times(last if args.t_end is None else min(args.t_end, last), args.t_start, args.speed, args.fps)
+    except ValueError as error:
+        parser.error(str(error))
     frames, speed, turn = animate(result, geometry, args.out, args.t_start, args.t_end, args.speed, args.fps)
     print(f"funnel.animate: wrote {args.out} ({frames} frames at {args.fps} fps, {speed:.3g} sqrt(H/g) per second)",
           file=sys.stderr)

@@ -509,6 +509,7 @@ def plot_figure(meta, columns):
 def render(figdir):
     """Draws ``figdir/figNN.{png,svg}`` from ``figdir/figNN.{json,csv}``; returns (meta, [paths])."""
     import matplotlib
+    from ._files import replacing
     figdir = Path(figdir)
     meta, columns = load_figure(figdir)
     fig = plot_figure(meta, columns)
@@ -516,9 +517,8 @@ def render(figdir):
     with matplotlib.rc_context(STYLE):
         for ext, metadata in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
             path = figdir / f"{figdir.name}.{ext}"
-            tmp = path.with_suffix(f".tmp.{ext}")
-            fig.savefig(tmp, metadata=metadata)
-            tmp.replace(path)  # never leave a partial image
+            with replacing(path, hidden=False) as tmp:  # never a partial image, nor a stray temporary
+                fig.savefig(tmp, format=ext, metadata=metadata)
             paths.append(path)
             # The layout found for the PNG is kept for the SVG: the same picture, and a second
             # constrained-layout pass (a third of the drawing time) saved.

@@ -47,11 +47,14 @@ def plot_bench(bench, out):
     samples = ref.get("samples", "?")
     ax.set_title(f"Reference ensemble (θ = 60°, e = 0.99, μ = 1, N = {samples}) by engine path", fontsize=9)
     fig.tight_layout()
+    from ._files import replacing
     out = Path(out)
-    tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-    fig.savefig(tmp, metadata={"Software": None} if out.suffix == ".png" else {"Date": None, "Creator": None})
-    plt.close(fig)
-    os.replace(tmp, out)
+    try:
+        with replacing(out) as tmp:
+            fig.savefig(tmp, format=out.suffix.lstrip(".").lower() or None,
+                        metadata={"Software": None} if out.suffix == ".png" else {"Date": None, "Creator": None})
+    finally:
+        plt.close(fig)
     return out
 
 

@@ -187,10 +187,10 @@ single particle falling through a funnel</i>. Units: {units}. Claims confirmed b
 </body>
 </html>
 """
+    from ._files import replacing
     path = outdir / "index.html"
-    tmp = outdir / "index.html.tmp"
-    tmp.write_text(page, encoding="utf-8")
-    tmp.replace(path)
+    with replacing(path, hidden=False) as tmp:
+        tmp.write_text(page, encoding="utf-8")
     return path
 
 

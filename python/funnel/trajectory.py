@@ -321,11 +321,11 @@ def save_figure(fig, out):
     """Writes fig to out (.png, .svg or .pdf) through a temporary file (never a partial file)."""
     import matplotlib
     from .plot import STYLE
+    from ._files import replacing
     out = Path(out)
-    tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-    with matplotlib.rc_context(STYLE):
-        fig.savefig(tmp, metadata={"Software": None} if out.suffix == ".png" else None)
-    tmp.replace(out)
+    with matplotlib.rc_context(STYLE), replacing(out) as tmp:
+        fig.savefig(tmp, format=out.suffix.lstrip(".").lower() or None,
+                    metadata={"Software": None} if out.suffix == ".png" else None)
 
 
 def main(argv=None, prog="python -m funnel.trajectory"):
@@ -341,6 +341,11 @@ def main(argv=None, prog="python -m funnel.trajectory"):
     args = parser.parse_args(argv)
     if Path(args.out).suffix.lower() not in (".png", ".svg", ".pdf"):
         parser.error(f"invalid out = '{args.out}': the file name must end in .png, .svg or .pdf")
+    from ._files import check_output
+    try:
+        check_output(args.out)  # before the simulation, not after it
+    except ValueError as error:
+        parser.error(str(error))
     try:
         result, geometry = simulate_for_plot(args.release, **model_arguments(args))
     except ValueError as error:

@@ -163,3 +163,38 @@ def test_model_options_match_the_library():
     args = parser.parse_args(["--release", "0.3", "--theta", "50", "--max-collisions", "7"])
     assert trajectory.model_arguments(args) == {"theta": 50.0, "max_collisions": 7.0}
     assert set(funnel.MODEL_PARAMETERS) <= set(vars(args))
+
+
+def test_bad_outputs_are_refused_before_the_work_and_leave_no_temporary(tmp_path, capsys):
+    # A missing directory was found only after the simulation (a traceback, exit 1); a directory
+    # as the target left the finished temporary picture beside it.
+    (tmp_path / "isdir.png").mkdir()
+    (tmp_path / "isdir.gif").mkdir()
+    for main, out in ((trajectory.main, "nodir/x.png"), (trajectory.main, "isdir.png"),
+                      (animate.main, "nodir/x.gif"), (animate.main, "isdir.gif")):
+        with pytest.raises(SystemExit) as exit_:
+            main(["--release", "0.3", "--out", str(tmp_path / out)])
+        assert exit_.value.code == 2
+        assert "invalid out" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["isdir.gif", "isdir.png"]
+    assert not any((tmp_path / "isdir.png").iterdir())
+    # Too slow an animation is refused before drawing (2.4 million frames, or petabytes at 1e-12).
+    with pytest.raises(SystemExit) as exit_:
+        animate.main(["--release", "0.3", "--speed", "1e-12", "--out", str(tmp_path / "slow.gif")])
+    assert exit_.value.code == 2 and "frames; valid range is at most" in capsys.readouterr().err
+
+
+def test_a_failed_save_removes_its_temporary(tmp_path):
+    import matplotlib.pyplot as plt
+
+    from funnel._files import replacing
+    fig = plt.figure()
+    with pytest.raises(RuntimeError):
+        with replacing(tmp_path / "x.png") as tmp:
+            fig.savefig(tmp, format="png")
+            raise RuntimeError("interrupted while writing")
+    plt.close(fig)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ValueError, match="is a directory"):
+        with replacing(tmp_path):
+            pass

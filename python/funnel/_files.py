@@ -1,0 +1,44 @@
+"""Writing output files safely: checked before any work, written through a temporary file.
+
+Every picture, animation and page the package writes goes through :func:`replacing`: the data
+goes to a temporary file beside the target, which is renamed onto it only when complete and is
+removed on any failure, so that neither a partial file nor a stray temporary is ever left.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from pathlib import Path
+
+
+def check_output(out, what="out"):
+    """Raises ValueError, before any work, if ``out`` cannot be written: a directory, or a path
+    whose directory is missing or not writable (the command line's rules, docs/cli.md)."""
+    out = Path(out)
+    if out.is_dir():
+        raise ValueError(f"invalid {what} = '{out}': is a directory")
+    parent = out.parent if str(out.parent) else Path(".")
+    if not parent.is_dir():
+        raise ValueError(f"invalid {what} = '{out}': directory '{parent}' does not exist")
+    if not os.access(parent, os.W_OK):
+        raise ValueError(f"invalid {what} = '{out}': directory '{parent}' is not writable")
+    if out.exists() and not os.access(out, os.W_OK):
+        raise ValueError(f"invalid {what} = '{out}': is not writable")
+
+
+@contextlib.contextmanager
+def replacing(out, hidden=True):
+    """Yields a temporary path beside ``out`` (``.NAME.tmp.SUFFIX``, or ``NAME.tmp.SUFFIX`` with
+    hidden=False) to write to; renames it onto ``out`` when the block ends normally, removes it
+    otherwise."""
+    out = Path(out)
+    check_output(out)
+    name = f".{out.name}.tmp{out.suffix}" if hidden else f"{out.stem}.tmp{out.suffix}"
+    tmp = out.with_name(name)
+    try:
+        yield tmp
+        os.replace(tmp, out)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()
