@@ -120,12 +120,27 @@ def read_csv(path):
     return columns
 
 
+def load_meta(figdir):
+    """The JSON record ``figNN/figNN.json`` of a figure; ValueError naming the file if it is not
+    a figure's record (not JSON, or no known kind)."""
+    figdir = Path(figdir)
+    path = figdir / f"{figdir.name}.json"
+    try:
+        with open(path) as f:
+            meta = json.load(f)
+    except json.JSONDecodeError as err:
+        raise ValueError(f"invalid figure data '{path}': not JSON ({err})") from None
+    if not isinstance(meta, dict) or meta.get("kind") not in KINDS + ORBIT_KINDS + DESIGNER_KINDS:
+        kind = meta.get("kind") if isinstance(meta, dict) else None
+        raise ValueError(f"invalid figure data '{path}': kind = {kind!r}; valid kinds are "
+                         f"{', '.join(KINDS + ORBIT_KINDS + DESIGNER_KINDS)}")
+    return meta
+
+
 def load_figure(figdir):
     """(meta, columns) of a figure directory ``figNN/`` with ``figNN.json`` and ``figNN.csv``."""
     figdir = Path(figdir)
-    with open(figdir / f"{figdir.name}.json") as f:
-        meta = json.load(f)
-    return meta, read_csv(figdir / f"{figdir.name}.csv")
+    return load_meta(figdir), read_csv(figdir / f"{figdir.name}.csv")
 
 
 def _select(columns, mask):
@@ -546,6 +561,8 @@ def render_all(outdir, log=None, jobs=None):
     """
     from . import report
     dirs = figure_dirs(outdir)
+    for figdir in dirs:
+        load_meta(figdir)  # every record readable before any picture is drawn
     jobs = min(len(dirs), os.cpu_count() or 1) if jobs is None else int(jobs)
     if jobs < 1:
         raise ValueError(f"invalid jobs = {jobs}: valid range is an integer >= 1")
@@ -596,7 +613,13 @@ def main(argv=None):
     outdir = Path(args.outdir)
     if not outdir.is_dir():
         parser.error(f"invalid outdir = '{outdir}': not a directory")
-    index = render_all(outdir, log=lambda msg: print(msg, file=sys.stderr), jobs=args.jobs)
+    try:
+        index = render_all(outdir, log=lambda msg: print(msg, file=sys.stderr), jobs=args.jobs)
+    except (ValueError, KeyError, IndexError, OSError) as err:
+        # Bad figure data (or an unwritable picture): one line, exit status 2, not a traceback.
+        what = f"missing column {err}" if isinstance(err, KeyError) else str(err)
+        print(f"python -m funnel.plot: error: {what}", file=sys.stderr)
+        return 2
     print(f"funnel.plot: wrote {index}", file=sys.stderr)
     return 0
 

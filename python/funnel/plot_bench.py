@@ -70,8 +70,10 @@ def main(argv=None, prog="python -m funnel.plot bench"):
         text = sys.stdin.read() if args.bench == "-" else Path(args.bench).read_text()
         bench = json.loads(text)
         path = plot_bench(bench, args.out)
-    except (OSError, ValueError, KeyError) as error:
-        print(f"{prog}: {error}", file=sys.stderr)
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as error:
+        # Not a bench JSON (a list, a null where a number belongs): one line, exit status 2.
+        what = str(error) if isinstance(error, (OSError, ValueError)) else f"not the JSON of funnel bench ({error!r})"
+        print(f"{prog}: error: {what}", file=sys.stderr)
         return 2
     print(f"funnel.plot: wrote {path}", file=sys.stderr)
     return 0

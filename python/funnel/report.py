@@ -201,12 +201,16 @@ def main(argv=None):
     if len(args) != 1 or not Path(args[0]).is_dir():
         print("usage: python -m funnel.report OUTDIR", file=sys.stderr)
         return 2
+    from .plot import load_meta
     entries = []
-    for d in figure_dirs(args[0]):
-        with open(d / f"{d.name}.json") as f:
-            meta = json.load(f)
-        entries.append({"dir": d.name, "meta": meta, "images": [f"{d.name}.png", f"{d.name}.svg"]})
-    print(f"funnel.report: wrote {write_index(args[0], entries)}", file=sys.stderr)
+    try:
+        for d in figure_dirs(args[0]):
+            entries.append({"dir": d.name, "meta": load_meta(d), "images": [f"{d.name}.png", f"{d.name}.svg"]})
+        index = write_index(args[0], entries)
+    except (ValueError, OSError) as err:
+        print(f"python -m funnel.report: error: {err}", file=sys.stderr)
+        return 2
+    print(f"funnel.report: wrote {index}", file=sys.stderr)
     return 0
 
 

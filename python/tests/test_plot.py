@@ -277,3 +277,23 @@ def test_report_embeds_a_player_with_the_figure_data(dataset):
         assert panel["events"]["time"] == rows["time"].tolist()
         assert panel["events"]["omega_after"] == rows["omega_after"].tolist()
         assert panel["geometry"] == meta["geometry"][panel["id"]]
+
+
+def test_bad_figure_data_is_one_line_and_exit_status_2(tmp_path, capsys):
+    # A corrupt record, an unknown kind or a list for the bench JSON gave tracebacks (exit 1),
+    # some after other pictures were drawn.
+    from funnel import plot, report
+    fig = tmp_path / "fig01"
+    fig.mkdir()
+    (fig / "fig01.csv").write_text("a\n1\n")
+    (fig / "fig01.json").write_text("{not json")
+    assert plot.main([str(tmp_path)]) == 2
+    assert "invalid figure data" in capsys.readouterr().err
+    assert report.main([str(tmp_path)]) == 2
+    (fig / "fig01.json").write_text('{"kind": "nonsense"}')
+    assert plot.main([str(tmp_path)]) == 2
+    assert "kind = 'nonsense'; valid kinds are" in capsys.readouterr().err
+    assert sorted(p.name for p in fig.iterdir()) == ["fig01.csv", "fig01.json"]  # nothing drawn
+    (tmp_path / "b.json").write_text("[1, 2]")
+    assert plot.main(["bench", str(tmp_path / "b.json"), "--out", str(tmp_path / "b.png")]) == 2
+    assert "not the JSON of funnel bench" in capsys.readouterr().err
