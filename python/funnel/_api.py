@@ -253,11 +253,11 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
             raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
         if _wear_bins(wear_bins) != 0:
             raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
-        result = core.simulate_3d(_model("simulate", model, "3d"), _scalar("release", release), bool(events))
+        result = core.simulate_3d(_model("simulate", model, "3d"), _scalar("release", release), _flag("events", events))
         if events:
             _text_columns(result["events"], ("kind", "regime"))
         return result
-    result = core.simulate(_model("simulate", model), _scalar("release", release), bool(events),
+    result = core.simulate(_model("simulate", model), _scalar("release", release), _flag("events", events),
                            _wear_bins(wear_bins), _geometry(geometry))
     if events:
         _text_columns(result["events"], ("kind", "wall", "regime"))
@@ -274,13 +274,22 @@ def _gaussian(release_dist, release, release_sd):
     return (0.0 if release is None else release), (0.1 if release_sd is None else release_sd)
 
 
+def _flag(name, value):
+    """A yes/no option: True or False (numpy's too); TypeError for anything else, where bool()
+    would take events="no" as yes."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, not {type(value).__name__} ({value!r})")
+
+
 def _progress_callback(progress, what):
     """A callable (done, total) from ``progress``: True (tqdm if installed, else a line on
     stderr), False/None (nothing) or a callable."""
-    if progress is None or progress is False:
+    if progress is None or progress is False or (isinstance(progress, np.bool_) and not progress):
         return None
     if callable(progress):
         return progress
+    _flag("progress", progress)  # True; anything else (0, "yes") is a TypeError
     try:
         from tqdm import tqdm
     except ImportError:
@@ -371,7 +380,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
         _gaussian("disk" if release_dist is None else str(release_dist), release, release_sd)
         result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples),
                                   "disk" if release_dist is None else str(release_dist), _count("threads", threads),
-                                  bool(per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd),
+                                  _flag("per_sample", per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd),
                                   _progress_callback(progress, "ensemble"))
         if per_sample:
             _text_columns(result["per_sample"], ("status",))
@@ -379,7 +388,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
     release_dist = "line" if release_dist is None else release_dist
     release, release_sd = _gaussian(str(release_dist), release, release_sd)
     result = core.ensemble(_model("ensemble", model), _count("samples", samples), str(release_dist),
-                           _count("threads", threads), bool(per_sample), _seed(seed),
+                           _count("threads", threads), _flag("per_sample", per_sample), _seed(seed),
                            _scalar("release", release), _scalar("release_sd", release_sd),
                            _scalar("velocity_sd", velocity_sd), _wear_bins(wear_bins),
                            _progress_callback(progress, "ensemble"), _geometry(geometry))
@@ -587,7 +596,8 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4
     model = {"e": 1.0, **model}
     max_time = model.pop("t_max", max_time)
     max_coll = model.pop("max_collisions", max_coll)
-    return _core().closed(_model("closed", model), _count("samples", samples), str(release_dist),
+    return _core().closed(_model("closed", model), _count("samples", samples),
+                          "line" if release_dist is None else str(release_dist),
                           _count("threads", threads), _scalar("max_time", max_time),
                           _count("max_coll", max_coll), _count("window", window),
                           _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol))
@@ -719,7 +729,7 @@ def paper_figure(figure, quick=False, threads=0, paper_dir=None, progress=False)
             known = sorted(f[:-5] for f in os.listdir(base) if f.startswith("fig") and f.endswith(".toml")) \
                 if os.path.isdir(base) else []
             raise ValueError(f"invalid figure = {figure!r}: no {path}; valid: {', '.join(known) or '(none found)'}")
-    result = _core().paper_figure(path, bool(quick), _count("threads", threads),
+    result = _core().paper_figure(path, _flag("quick", quick), _count("threads", threads),
                                   _progress_callback(progress, "paper " + os.path.basename(path)[:-5]))
     result["columns"] = _csv_columns(result["csv"])
     result["check"] = json.loads(result["check"])

@@ -145,3 +145,15 @@ def test_bad_values_found_by_an_audit_of_the_python_interface():
     refused(lambda: funnel.geometry(geometry={"left": {"vertices": [[-1, 1], [-0.1, 0]]}, "mirror": "yes"}),
             ValueError, r"^invalid geometry mirror = 'yes': valid values are true, false")
     assert funnel.valid_range("theta") == "0 < theta < 90 (degrees)"
+
+
+def test_yes_no_options_take_only_true_or_false():
+    # bool() took events="no" as yes, and progress=0 showed a bar.
+    with pytest.raises(TypeError, match=r"events must be True or False, not str"):
+        funnel.simulate(0.3, events="no")
+    with pytest.raises(TypeError, match=r"per_sample must be True or False"):
+        funnel.ensemble(samples=10, per_sample=1)
+    with pytest.raises(TypeError, match=r"progress must be True or False"):
+        funnel.ensemble(samples=10, progress=0)
+    assert "events" in funnel.simulate(0.3, events=np.bool_(True))
+    assert funnel.closed(samples=8, release_dist=None)["state_counts"]  # None is the default line, as elsewhere
