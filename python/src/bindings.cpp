@@ -49,10 +49,13 @@ std::string library_name(std::string name) {
 
 /// A number of a geometry dict; ValueError naming the key otherwise.
 double geometry_number(const py::handle& h, const std::string& key) {
-  if (py::isinstance<py::bool_>(h) || !(py::isinstance<py::float_>(h) || py::isinstance<py::int_>(h))) {
+  // Any real number: Python's, or numpy's scalars (np.float32(0.1), np.int64(1)), not a bool.
+  const py::object numbers_real = py::module_::import("numbers").attr("Real");
+  const py::object numpy_bool = py::module_::import("numpy").attr("bool_");
+  if (py::isinstance<py::bool_>(h) || py::isinstance(h, numpy_bool) || !py::isinstance(h, numbers_real)) {
     throw py::value_error("invalid geometry: " + key + " is not a number");
   }
-  return h.cast<double>();
+  return py::float_(py::reinterpret_borrow<py::object>(h)).cast<double>();
 }
 
 /// The vertices [[x, y], ...] of one side of a geometry dict.

@@ -157,3 +157,13 @@ def test_yes_no_options_take_only_true_or_false():
         funnel.ensemble(samples=10, progress=0)
     assert "events" in funnel.simulate(0.3, events=np.bool_(True))
     assert funnel.closed(samples=8, release_dist=None)["state_counts"]  # None is the default line, as elsewhere
+
+
+def test_a_geometry_dict_takes_numpy_numbers():
+    # np.float32(0.1) or np.int64(1) were "not a number".
+    walls = {"left": {"vertices": [[np.int64(-1), 1.0], [-0.1, np.float32(0.0)]], "mu": np.float32(0.5)},
+             "mirror": True}
+    plain = {"left": {"vertices": [[-1, 1.0], [-0.1, 0.0]], "mu": float(np.float32(0.5))}, "mirror": True}
+    assert funnel.simulate(0.3, geometry=walls)["duration"] == funnel.simulate(0.3, geometry=plain)["duration"]
+    with pytest.raises(ValueError, match="is not a number"):
+        funnel.simulate(0.3, geometry={"left": {"vertices": [[-1, 1], [-0.1, True]]}, "mirror": True})
