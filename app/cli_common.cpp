@@ -130,14 +130,18 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
   return axes;
 }
 
-void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std::string& why) {
-  double points = 1.0;
+std::string grid_dims(const std::vector<Axis>& axes) {
   std::string dims;
   for (const Axis& a : axes) {
-    points *= static_cast<double>(a.values.size());
     if (a.values.size() > 1) dims += (dims.empty() ? "" : " x ") + a.name + " " + std::to_string(a.values.size());
   }
+  return dims;
+}
+
+void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std::string& why) {
+  const double points = grid_points(axes);
   if (points <= max_points) return;
+  const std::string dims = grid_dims(axes);
   char count[32];
   std::snprintf(count, sizeof count, "%.3g", points);
   char cap[32];

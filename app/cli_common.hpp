@@ -57,6 +57,9 @@ Space to_space(const std::string& text);
 /// Grid axes from list-valued options (and the parameters' defaults for the rest).
 std::vector<Axis> to_axes(const ModelOptions& options);
 
+/// "theta 8801 x mu 115": the axes of more than one value, with their sizes.
+std::string grid_dims(const std::vector<Axis>& axes);
+
 /// Refuses, before the grid is built, a grid of more than `max_points` points (their product
 /// over the axes): its points and rows are held in memory (a huge grid ended in bad_alloc).
 void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std::string& why);

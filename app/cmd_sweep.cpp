@@ -152,12 +152,8 @@ struct SweepCommand {
 
   /// Refuses, without --yes, a grid over 10^6 points or an estimated run time over an hour.
   void check_size(const std::vector<Axis>& axes, const EnsembleOptions& options) const {
-    double points = 1.0;
-    std::string dims;
-    for (const Axis& a : axes) {
-      points *= static_cast<double>(a.values.size());
-      if (a.values.size() > 1) dims += (dims.empty() ? "" : " x ") + a.name + " " + std::to_string(a.values.size());
-    }
+    const double points = grid_points(axes);
+    const std::string dims = grid_dims(axes);
     const int threads = resolve_threads(options.threads);
     const double trajectories = points * static_cast<double>(options.samples);
     const bool three_d = to_space(space) == Space::ThreeD;
@@ -190,9 +186,15 @@ struct SweepCommand {
     const Ensemble3Options options3 =
         sp == Space::ThreeD ? to_ensemble3_options(options, dist_given) : Ensemble3Options{};
     const ReleaseDist dist = sp == Space::ThreeD ? options3.dist : options.dist;
+    // A point's row begins with its parameters and the distribution (then its statistics).
+    const auto row_start = [&](const Params& p) {
+      std::vector<std::string> row = param_row(p, sp);
+      row.emplace_back(to_string(dist));
+      return row;
+    };
     // Even with --yes: each point's row (about 2 kB) is held in memory, and copied once more
     // into the output.
-    check_grid_cap(axes, 2e6, "even with --yes: every point's row, about 2 kB, is held in memory twice");
+    check_grid_cap(axes, max_sweep_points, "even with --yes: every point's row, about 2 kB, is held in memory twice");
     check_size(axes, options);
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
     validate_all(points, sp);
@@ -230,9 +232,7 @@ struct SweepCommand {
       if (resume) {
         std::vector<std::string> prefixes;  // each point's parameter columns and release_dist, as written
         for (const Params& p : points) {
-          std::vector<std::string> row = param_row(p, sp);
-          row.emplace_back(to_string(dist));
-          std::string line = csv_line(row);
+          std::string line = csv_line(row_start(p));
           line.back() = ',';
           prefixes.push_back(std::move(line));
         }
@@ -280,8 +280,7 @@ struct SweepCommand {
       // One finished point: its row (the statistics' part from 2D or 3D) is kept and appended.
       auto point_done = [&](std::size_t k, const std::vector<std::string>& stats) {
             const std::size_t i = todo_index[k];
-            std::vector<std::string> row = param_row(points[i], sp);
-            row.emplace_back(to_string(dist));
+            std::vector<std::string> row = row_start(points[i]);
             for (const auto& v : stats) row.push_back(v);
             done[i] = csv_line(row);
             if (f != nullptr) {

@@ -100,6 +100,12 @@ double get_parameter(const Params& params, std::string_view name) {
   return p != nullptr ? p->get(params) : std::nan("");
 }
 
+double grid_points(const std::vector<Axis>& axes) {
+  double points = 1.0;
+  for (const Axis& a : axes) points *= static_cast<double>(a.values.size());
+  return points;
+}
+
 std::vector<Params> expand_grid(const Params& base, const std::vector<Axis>& axes) {
   std::vector<Params> points{base};
   for (const Axis& axis : axes) {

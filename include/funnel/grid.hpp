@@ -33,6 +33,13 @@ struct Axis {
   std::vector<double> values;
 };
 
+/// Points of the axes' Cartesian product (a double: the product may exceed any integer).
+double grid_points(const std::vector<Axis>& axes);
+
+/// Grid points a sweep may have (CLI and Python): its rows, about 2 kB each, are held in memory
+/// twice (the finished points and the output text).
+inline constexpr double max_sweep_points = 2e6;
+
 /// The Cartesian product of the axes over a base parameter set; the last axis varies fastest.
 std::vector<Params> expand_grid(const Params& base, const std::vector<Axis>& axes);
 

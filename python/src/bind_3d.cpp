@@ -4,7 +4,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
 #include <cmath>
 #include <map>
 #include <string>
@@ -23,7 +22,9 @@ namespace py = pybind11;
 
 namespace {
 
+using funnel::py_convert::check_sweep_axes;
 using funnel::py_convert::column;
+using funnel::py_convert::run_interruptible;
 using funnel::py_convert::text_column;
 
 /// The defaults overridden by `model` ({python name: float}), validated for 3D.
@@ -168,25 +169,13 @@ py::dict simulate_3d(const std::map<std::string, double>& model, double release,
   return d;
 }
 
-/// Runs work(report) without the GIL, reporting progress (callable or None) and checking for
-/// Ctrl-C, which cancels the trajectories not yet started and raises KeyboardInterrupt.
-template <class Work>
-void run_interruptible_3d(funnel::Ensemble3Options& options, const py::object& progress, Work work) {
-  std::atomic<bool> cancel{false};
-  funnel::py_convert::run_reporting(progress, cancel, [&](const funnel::Progress& report) {
-    options.cancel = &cancel;
-    work(report);
-    options.cancel = nullptr;
-  });
-}
-
 py::dict ensemble_3d(const std::map<std::string, double>& model, std::int64_t samples, const std::string& dist,
                      int threads, bool per_sample, std::uint64_t seed, double velocity_sd, const py::object& progress) {
   const funnel::Params params = make_params_3d(model);
   funnel::Ensemble3Options o = options_3d(samples, dist, threads, seed, velocity_sd);
   o.keep_samples = per_sample;
   funnel::Ensemble3Result r;
-  run_interruptible_3d(o, progress, [&](const funnel::Progress& report) { r = funnel::run_ensemble_3d(params, o, report); });
+  run_interruptible(o, progress, [&](const funnel::Progress& report) { r = funnel::run_ensemble_3d(params, o, report); });
   py::dict d;
   d["space"] = "3d";
   d["params"] = params_dict_3d(params);
@@ -228,27 +217,17 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
         throw py::value_error("invalid " + std::string(info.name) + ": no values; valid range is " +
                               std::string(info.range));
       }
-      // expand_grid skips a value set_parameter refuses: 1.5 max-collisions ran uncapped.
-      for (const double v : values) {
-        funnel::Params probe = funnel::default_params();
-        if (const auto err = funnel::set_parameter_checked(probe, info.name, v)) throw py::value_error(err->message());
-      }
       axes.push_back({std::string(info.name), values});
     }
   }
-  double size = 1.0;
-  for (const funnel::Axis& a : axes) size *= static_cast<double>(a.values.size());
-  if (size > 2e6) {
-    throw py::value_error("invalid grid: " + funnel::format_number(size) +
-                          " points; valid range is at most 2e+06 points (as funnel sweep): split it into several runs");
-  }
+  check_sweep_axes(axes);  // settable values (1.5 max-collisions ran uncapped) and the size cap
   const std::vector<funnel::Params> points = funnel::expand_grid(funnel::default_params(), axes);
   for (const funnel::Params& p : points) {
     if (const auto err = funnel::validate(p, funnel::Space::ThreeD)) throw py::value_error(err->message());
   }
   funnel::Ensemble3Options o = options_3d(samples, dist, threads, seed, velocity_sd);
   std::vector<funnel::Ensemble3Result> results;
-  run_interruptible_3d(o, progress, [&](const funnel::Progress& report) { results = funnel::run_sweep_3d(points, o, report); });
+  run_interruptible(o, progress, [&](const funnel::Progress& report) { results = funnel::run_sweep_3d(points, o, report); });
   py::dict d;
   const std::size_t n = points.size();
   for (const funnel::ParameterInfo& info : funnel::parameters(funnel::Space::ThreeD)) {

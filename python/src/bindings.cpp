@@ -5,7 +5,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <complex>
@@ -36,7 +35,9 @@ namespace py = pybind11;
 namespace {
 
 using funnel::Params;
+using funnel::py_convert::check_sweep_axes;
 using funnel::py_convert::column;
+using funnel::py_convert::run_interruptible;
 using funnel::py_convert::text_column;
 
 /// Python keyword (t_max) to the library's parameter name (t-max).
@@ -47,12 +48,18 @@ std::string library_name(std::string name) {
   return name;
 }
 
+/// True for Python's and numpy's bools (numpy's type looked up once; the handle is kept for the
+/// interpreter's life).
+bool is_bool(const py::handle& h) {
+  static const py::handle numpy_bool = py::object(py::module_::import("numpy").attr("bool_")).release();
+  return py::isinstance<py::bool_>(h) || py::isinstance(h, numpy_bool);
+}
+
 /// A number of a geometry dict; ValueError naming the key otherwise.
 double geometry_number(const py::handle& h, const std::string& key) {
   // Any real number: Python's, or numpy's scalars (np.float32(0.1), np.int64(1)), not a bool.
-  const py::object numbers_real = py::module_::import("numbers").attr("Real");
-  const py::object numpy_bool = py::module_::import("numpy").attr("bool_");
-  if (py::isinstance<py::bool_>(h) || py::isinstance(h, numpy_bool) || !py::isinstance(h, numbers_real)) {
+  static const py::handle numbers_real = py::object(py::module_::import("numbers").attr("Real")).release();
+  if (is_bool(h) || !py::isinstance(h, numbers_real)) {
     throw py::value_error("invalid geometry: " + key + " is not a number");
   }
   return py::float_(py::reinterpret_borrow<py::object>(h)).cast<double>();
@@ -112,7 +119,7 @@ std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry
   if (g.contains("mirror")) {
     // true or false only, as in a geometry file (a string or a number was a cast error, or true).
     const py::object m = g["mirror"];
-    if (!py::isinstance<py::bool_>(m) && !py::isinstance(m, py::module_::import("numpy").attr("bool_"))) {
+    if (!is_bool(m)) {
       throw py::value_error("invalid geometry mirror = " + std::string(py::str(py::repr(m))) + ": valid values are true, false");
     }
     mirror = m.cast<bool>();
@@ -290,19 +297,6 @@ funnel::EnsembleOptions ensemble_options(std::int64_t samples, const std::string
   return o;
 }
 
-/// Runs `work` without the GIL; every finished work unit reports to `progress` (a Python
-/// callable (done, total), or None) and checks for Ctrl-C, which cancels the rest of the run
-/// and raises KeyboardInterrupt.
-template <class Work>
-void run_interruptible(funnel::EnsembleOptions& options, const py::object& progress, Work work) {
-  std::atomic<bool> cancel{false};
-  funnel::py_convert::run_reporting(progress, cancel, [&](const funnel::Progress& report) {
-    options.cancel = &cancel;
-    work(report);
-    options.cancel = nullptr;
-  });
-}
-
 // ---------------------------------------------------------------------------------------------
 // Module functions
 
@@ -424,18 +418,7 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
     if (!known) throw py::type_error("unknown model parameter '" + key + "'");
   }
   // Each value must be settable (max-collisions integral) and every point valid, before any work.
-  for (const auto& a : axes) {
-    for (const double v : a.values) {
-      Params probe = funnel::default_params();
-      if (const auto err = funnel::set_parameter_checked(probe, a.name, v)) throw py::value_error(err->message());
-    }
-  }
-  double size = 1.0;
-  for (const funnel::Axis& a : axes) size *= static_cast<double>(a.values.size());
-  if (size > 2e6) {
-    throw py::value_error("invalid grid: " + funnel::format_number(size) +
-                          " points; valid range is at most 2e+06 points (as funnel sweep): split it into several runs");
-  }
+  check_sweep_axes(axes);
   const std::vector<Params> points = funnel::expand_grid(base, axes);
   for (const Params& p : points) {
     if (const auto err = funnel::validate(p)) throw py::value_error(err->message());

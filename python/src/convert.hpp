@@ -10,8 +10,11 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "funnel/ensemble.hpp"
+#include "funnel/grid.hpp"
+#include "funnel/params.hpp"
 
 namespace funnel::py_convert {
 
@@ -57,6 +60,37 @@ void run_reporting(const py::object& progress, std::atomic<bool>& cancel, Work w
     work(report);
   }
   if (error) throw *error;
+}
+
+/// Runs `work(report)` without the GIL, with `options.cancel` (EnsembleOptions or
+/// Ensemble3Options) watching for Ctrl-C: every finished work unit reports to `progress` (a
+/// Python callable (done, total), or None) and checks for Ctrl-C, which cancels the rest of the
+/// run and raises KeyboardInterrupt.
+template <class Options, class Work>
+void run_interruptible(Options& options, const py::object& progress, Work work) {
+  std::atomic<bool> cancel{false};
+  run_reporting(progress, cancel, [&](const funnel::Progress& report) {
+    options.cancel = &cancel;
+    work(report);
+    options.cancel = nullptr;
+  });
+}
+
+/// Checks a sweep's axes before the grid is built: every value settable (an integral
+/// max-collisions: expand_grid would skip 1.5 and run uncapped) and at most
+/// funnel::max_sweep_points points, as funnel sweep; ValueError otherwise.
+inline void check_sweep_axes(const std::vector<funnel::Axis>& axes) {
+  for (const funnel::Axis& a : axes) {
+    for (const double v : a.values) {
+      funnel::Params probe = funnel::default_params();
+      if (const auto err = funnel::set_parameter_checked(probe, a.name, v)) throw py::value_error(err->message());
+    }
+  }
+  const double points = funnel::grid_points(axes);
+  if (points > funnel::max_sweep_points) {
+    throw py::value_error("invalid grid: " + funnel::format_number(points) +
+                          " points; valid range is at most 2e+06 points (as funnel sweep): split it into several runs");
+  }
 }
 
 }  // namespace funnel::py_convert
