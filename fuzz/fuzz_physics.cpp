@@ -17,7 +17,8 @@
 //    totals; the Zeno guard never fires; the mirror release gives the mirror result bit for bit
 //    (line ensembles rely on it); a V's releases run together on every SIMD path of the CPU
 //    (simulate_many) give the scalar engine's results bit for bit, a closed V's with the orbit
-//    watch of Figs. 11-12 too.
+//    watch of Figs. 11-12 too; a run that did not slide (Trajectory::slid) is the same for a
+//    larger mu (sweeps over mu reuse it).
 //  - the same for random wall profiles (ledges, spouts, wedges, corners, an outlet of any width
 //    or closed, lower ends at different heights, a material per wall), and the mirror release in
 //    the mirror profile.
@@ -355,6 +356,19 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
           "mirror release exits in a non-mirror state", a.exit_state.r.x, b.exit_state.r.x);
 }
 
+/// Every field of two trajectories the same (the orbit watch's stop included).
+bool identical(const Trajectory& a, const Trajectory& b) {
+  return a.status == b.status && a.duration == b.duration && a.impulse == b.impulse &&
+         a.normal_impulse == b.normal_impulse && a.energy_loss == b.energy_loss &&
+         a.energy_loss_events == b.energy_loss_events && a.collisions == b.collisions &&
+         a.edge_collisions == b.edge_collisions && a.contacts == b.contacts && a.edge_contacts == b.edge_contacts &&
+         a.contact_time == b.contact_time && a.final_state.r.x == b.final_state.r.x &&
+         a.final_state.r.y == b.final_state.r.y && a.final_state.v.x == b.final_state.v.x &&
+         a.final_state.v.y == b.final_state.v.y && a.final_state.omega == b.final_state.omega &&
+         a.exit_state.r.x == b.exit_state.r.x && a.exit_state.v.x == b.exit_state.v.x &&
+         a.exit_state.v.y == b.exit_state.v.y && a.exit_state.omega == b.exit_state.omega && a.slid == b.slid;
+}
+
 /// The releases `fractions` of p run together on every SIMD path give the scalar engine's
 /// trajectories bit for bit (the batched path of src/batch.cpp; other funnels run one at a time).
 void check_paths(const Params& p, const std::vector<double>& fractions) {
@@ -387,15 +401,7 @@ void check_paths(const Params& p, const std::vector<double>& fractions) {
     for (std::size_t k = 0; k < got.size(); ++k) {
       const Trajectory& a = got[k];
       const Trajectory& b = expected[k];
-      require(a.status == b.status && a.duration == b.duration && a.impulse == b.impulse &&
-                  a.normal_impulse == b.normal_impulse && a.energy_loss == b.energy_loss &&
-                  a.energy_loss_events == b.energy_loss_events && a.collisions == b.collisions &&
-                  a.edge_collisions == b.edge_collisions && a.contacts == b.contacts &&
-                  a.edge_contacts == b.edge_contacts && a.contact_time == b.contact_time &&
-                  a.final_state.r.x == b.final_state.r.x && a.final_state.r.y == b.final_state.r.y &&
-                  a.final_state.v.x == b.final_state.v.x && a.final_state.v.y == b.final_state.v.y &&
-                  a.final_state.omega == b.final_state.omega,
-              "a SIMD path gives another result than the scalar engine", a.duration, b.duration);
+      require(identical(a, b), "a SIMD path gives another result than the scalar engine", a.duration, b.duration);
       if (watched) {
         const funnel::OrbitWatch::Memory& m = watches[k].memory();
         const funnel::OrbitWatch::Memory& e = expected_watches[k].memory();
@@ -448,6 +454,16 @@ void check_release(const Params& p, Params mirror, double fraction, int bins) {
   mirror.release_u = 0.0 - p.release_u;
   mirror.release_spin = 0.0 - p.release_spin;
   if (fraction != 0.0) check_mirror(t, funnel::simulate_release(mirror, funnel::make_funnel(mirror), -fraction));
+  if (!t.slid) {
+    // A run that did not slide is the same for every larger mu (docs/model.md §4; sweeps over mu
+    // reuse it): here at the next double, twice and a thousand times p's mu.
+    for (const double mu : {std::nextafter(p.mu, 1e300), 2.0 * p.mu + 1e-3, 1e3 * p.mu + 1.0}) {
+      Params more = p;
+      more.mu = mu;
+      const Trajectory u = funnel::simulate_release(more, funnel::make_funnel(more), fraction);
+      require(identical(t, u), "a run that did not slide changes with a larger mu", p.mu, mu);
+    }
+  }
 }
 
 /// A release in a random wall profile (docs/model.md §2b): walls of ledges, spouts, wedges and

@@ -107,7 +107,7 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   V rx = hn::Load(d, L.rx), ry = hn::Load(d, L.ry), vx = hn::Load(d, L.vx), vy = hn::Load(d, L.vy);
   V omega = hn::Load(d, L.omega), time = hn::Load(d, L.time), impulse = hn::Load(d, L.impulse);
   V normal_impulse = hn::Load(d, L.normal_impulse), energy_loss = hn::Load(d, L.energy_loss);
-  V collisions = hn::Load(d, L.collisions), start = hn::Load(d, L.start);
+  V collisions = hn::Load(d, L.collisions), start = hn::Load(d, L.start), slid = hn::Load(d, L.slid);
   V streak = hn::Load(d, L.streak), have_last = hn::Load(d, L.have_last), last_wall = hn::Load(d, L.last_wall);
   V last_x = hn::Load(d, L.last_x), last_y = hn::Load(d, L.last_y), prev_x = hn::Load(d, L.prev_x),
     prev_y = hn::Load(d, L.prev_y);
@@ -228,6 +228,7 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
     normal_impulse = select(common, hn::Add(normal_impulse, j_n), normal_impulse);
     energy_loss = select(common, hn::Add(energy_loss, lost), energy_loss);
     collisions = select(common, new_collisions, collisions);
+    slid = select(hn::And(common, sliding), one, slid);
     start = select(common, select(first_left, code_left, code_right), start);
 
     const M rest = hn::AndNot(common, busy);
@@ -249,6 +250,7 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   hn::Store(energy_loss, d, L.energy_loss);
   hn::Store(collisions, d, L.collisions);
   hn::Store(start, d, L.start);
+  hn::Store(slid, d, L.slid);
   if (watch) {
     hn::Store(streak, d, L.streak);
     hn::Store(have_last, d, L.have_last);

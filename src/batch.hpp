@@ -51,6 +51,7 @@ struct Lanes {
   alignas(64) double energy_loss[max_lanes];
   alignas(64) double collisions[max_lanes];
   alignas(64) double start[max_lanes];  ///< start_* codes
+  alignas(64) double slid[max_lanes];   ///< 1 once a collision slid (Trajectory::slid), else 0
   // The orbit watch's memory (OrbitWatch::Memory) when Constants::watch is 1.
   alignas(64) double streak[max_lanes];
   alignas(64) double have_last[max_lanes];  ///< 0 or 1

@@ -93,6 +93,7 @@ ContactResult slide_on_face(const State& start, const Face& face, double ws, con
   if (slip != 0.0) {
     const Phase first = sliding_phase(slip > 0.0 ? 1.0 : -1.0, face, m);
     res.first_regime = first.regime;
+    res.slid = true;
     // The slip reaches zero only if it decreases in magnitude.
     const double t_stop = slip * first.slip_rate < 0.0 ? -slip / first.slip_rate : never;
     done = run_phase(first, t_stop);
@@ -101,6 +102,7 @@ ContactResult slide_on_face(const State& start, const Face& face, double ws, con
   if (!done) {
     const Phase second = zero_slip_phase(face, m);
     if (res.duration == 0.0) res.first_regime = second.regime;
+    if (second.regime == Regime::Sliding) res.slid = true;
     run_phase(second, never);  // the end is reached: accel > 0 down a slope; on a ledge it rolls on
   }
 

@@ -170,6 +170,7 @@ class Run {
   Collision apply_collision(EventKind kind, WallPart part, Vec2 n) {
     const Collision c = collide(state_, n, side(part.wall).law);
     ++out_.collisions;
+    if (c.regime == Regime::Sliding) out_.slid = true;
     const double j = std::sqrt(c.j_n * c.j_n + c.j_t * c.j_t);
     out_.impulse += j;
     out_.normal_impulse += c.j_n;
@@ -315,6 +316,7 @@ class Run {
     const double lost = energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
     out_.energy_loss_events += lost;
     const ContactResult res = slide_on_face(state_, fc, sd.ws, sd.material);
+    if (res.slid) out_.slid = true;
     if (sink_ != nullptr) {
       Event e = base_event(EventKind::ContactStart, part.wall);
       e.velocity_before = entry.v;
@@ -368,6 +370,9 @@ class Run {
   /// A sustained contact with a corner's edge point, from state_ (on the circle, tangential).
   EdgeExit edge_contact_phase(WallPart part, const State& entry) {
     ++out_.edge_contacts;
+    // Rolling over an edge reads mu beyond a monotone test (its quadrature's error floor, the
+    // search for the loss of rolling): any edge contact counts as depending on mu.
+    out_.slid = true;
     const Side& sd = side(part.wall);
     const double lost = energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
     out_.energy_loss_events += lost;
@@ -510,6 +515,7 @@ void to_lane(Run::Lane r, batch::Lanes& l, int i, OrbitWatch* w) {
   l.energy_loss[i] = r.out->energy_loss_events;
   l.collisions[i] = static_cast<double>(r.out->collisions);
   l.start[i] = start_code(*r.start);
+  l.slid[i] = r.out->slid ? 1.0 : 0.0;
   if (w != nullptr) {
     const OrbitWatch::Memory& m = w->memory();
     l.streak[i] = m.streak;
@@ -535,6 +541,7 @@ std::int64_t from_lane(const batch::Lanes& l, int i, Run::Lane r, OrbitWatch* w)
   r.out->normal_impulse = l.normal_impulse[i];
   r.out->energy_loss_events = l.energy_loss[i];
   r.out->collisions = collisions;
+  r.out->slid = l.slid[i] != 0.0;
   *r.start = FlightStart{};
   if (l.start[i] == batch::start_left) r.start->on_face = WallPart{Wall::Left, 0};
   if (l.start[i] == batch::start_right) r.start->on_face = WallPart{Wall::Right, 0};

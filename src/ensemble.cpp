@@ -4,7 +4,11 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <functional>
+#include <span>
 #include <iterator>
 #include <utility>
 
@@ -202,52 +206,102 @@ constexpr std::int64_t tasks_per_thread = 8;
 /// Releases run together at most: the memory of a task stays bounded whatever N.
 constexpr std::int64_t max_block = 4096;
 
-/// Chunks [c0, c1) of one point, each with its samples in index order (the one computation
-/// behind run_chunk and run_sweep). Without a wear record their trajectories run together, in
-/// blocks of at most max_block releases (simulate_many: the batched path of a V); each chunk's
-/// statistics are the same either way.
-std::vector<ChunkStats> compute_chunks(const Params& params, const Funnel& g, const EnsembleOptions& options,
-                                       bool halved, std::int64_t c0, std::int64_t c1) {
+/// Chunks [c0, c1) of a chain of points (`points`, with their funnels): one point, or points
+/// that differ only in mu, in ascending mu (friction_chains). Returns each point's chunks, in
+/// chain order, each with its samples in index order (the one computation behind run_chunk and
+/// run_sweep). Without a wear record the trajectories run together, in blocks of at most
+/// max_block releases (simulate_many: the batched path of a V), and along a chain a release runs
+/// again only if its trajectory at the point before slid: otherwise it is the same trajectory
+/// (Trajectory::slid, docs/model.md §4). Each chunk's statistics are the same either way.
+std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const> points,
+                                                   std::span<const Funnel* const> funnels, const EnsembleOptions& options,
+                                                   bool halved, std::int64_t c0, std::int64_t c1) {
   const std::int64_t n = options.samples;
-  const bool together = options.wear_bins == 0;
-  std::vector<State> releases;
-  std::vector<Trajectory> runs;
-  // The releases [block_first, block_last) are in `releases` and `runs`: none yet.
-  std::int64_t block_first = chunk_range(halved, n, c0).first, block_last = block_first;
-  std::vector<ChunkStats> out(static_cast<std::size_t>(c1 - c0));
-  for (std::int64_t chunk = c0; chunk < c1; ++chunk) {
-    const auto [begin, end] = chunk_range(halved, n, chunk);
-    ChunkStats& stats = out[static_cast<std::size_t>(chunk - c0)];
-    Wear wear = Wear::make(g, options.wear_bins);
-    stats.wear = wear;
-    if (options.keep_samples) stats.samples.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, end - begin)));
-    for (std::int64_t k = begin; k < end; ++k) {
-      if (together && k == block_last) {
-        // The next block, up to the last chunk's end.
-        block_first = k;
-        block_last = std::min(chunk_range(halved, n, c1 - 1).second, k + max_block);
-        releases.clear();
-        for (std::int64_t b = block_first; b < block_last; ++b) releases.push_back(sample_release(params, g, options, b));
-        runs.resize(releases.size());
-        simulate_many(params, g, releases, runs);
+  const Params& first = *points.front();
+  const Funnel& g = *funnels.front();  // the releases are the same along a chain
+  const std::size_t members = points.size();
+  std::vector<std::vector<ChunkStats>> out(members, std::vector<ChunkStats>(static_cast<std::size_t>(c1 - c0)));
+  for (std::size_t m = 0; m < members; ++m) {
+    for (std::int64_t c = c0; c < c1; ++c) {
+      ChunkStats& stats = out[m][static_cast<std::size_t>(c - c0)];
+      stats.wear = Wear::make(*funnels[m], options.wear_bins);
+      if (options.keep_samples) {
+        const auto [begin, end] = chunk_range(halved, n, c);
+        stats.samples.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, end - begin)));
       }
-      const double fraction = sample_fraction(options, k);
-      const auto index = static_cast<std::size_t>(k - block_first);
-      const State release = together ? releases[index] : sample_release(params, g, options, k);
-      if (options.wear_bins > 0) wear = Wear::make(g, options.wear_bins);
-      const Trajectory t = together ? runs[index] : simulate(params, g, release, nullptr, &wear);
-      const std::int64_t partner = halved ? n - 1 - k : k;
-      add(stats, t);
-      stats.simulated_collisions += t.collisions;
-      stats.wear.merge(wear);
-      if (partner != k) {
-        add(stats, mirrored(t));
-        stats.wear.merge(wear.mirrored());
+    }
+  }
+  // Adds sample k's trajectory t (`computed`: run here, not reused) to chunk c of point m.
+  auto add_sample = [&](std::size_t m, std::int64_t c, std::int64_t k, const State& release, const Trajectory& t,
+                        bool computed, const Wear* wear) {
+    ChunkStats& stats = out[m][static_cast<std::size_t>(c - c0)];
+    add(stats, t);
+    if (computed) stats.simulated_collisions += t.collisions;
+    if (wear != nullptr) stats.wear.merge(*wear);
+    if (const std::int64_t partner = halved ? n - 1 - k : k; partner != k) {
+      add(stats, mirrored(t));
+      if (wear != nullptr) stats.wear.merge(wear->mirrored());
+    }
+    if (options.keep_samples) stats.samples.push_back({sample_fraction(options, k), release, t});
+  };
+  const std::int64_t first_sample = chunk_range(halved, n, c0).first, last_sample = chunk_range(halved, n, c1 - 1).second;
+
+  if (options.wear_bins > 0) {
+    // With a wear record: one trajectory at a time, each with its own record (no chain).
+    std::int64_t c = c0;
+    for (std::int64_t k = first_sample; k < last_sample; ++k) {
+      while (k >= chunk_range(halved, n, c).second) ++c;
+      const State release = sample_release(first, g, options, k);
+      for (std::size_t m = 0; m < members; ++m) {
+        Wear wear = Wear::make(*funnels[m], options.wear_bins);
+        add_sample(m, c, k, release, simulate(*points[m], *funnels[m], release, nullptr, &wear), true, &wear);
       }
-      if (options.keep_samples) stats.samples.push_back({fraction, release, t});
+    }
+    return out;
+  }
+
+  std::vector<State> releases, subset;
+  std::vector<Trajectory> runs, subset_runs;
+  std::vector<std::size_t> rerun;
+  std::vector<char> computed;
+  for (std::int64_t block_first = first_sample; block_first < last_sample; block_first += max_block) {
+    const std::int64_t block_last = std::min(last_sample, block_first + max_block);
+    releases.clear();
+    for (std::int64_t b = block_first; b < block_last; ++b) releases.push_back(sample_release(first, g, options, b));
+    for (std::size_t m = 0; m < members; ++m) {
+      // The releases to run: all at the chain's first point; then those whose trajectory slid.
+      rerun.clear();
+      subset.clear();
+      for (std::size_t i = 0; i < releases.size(); ++i) {
+        if (m == 0 || runs[i].slid) {
+          rerun.push_back(i);
+          subset.push_back(releases[i]);
+        }
+      }
+      subset_runs.resize(subset.size());
+      simulate_many(*points[m], *funnels[m], subset, subset_runs);
+      runs.resize(releases.size());
+      computed.assign(releases.size(), 0);
+      for (std::size_t j = 0; j < rerun.size(); ++j) {
+        runs[rerun[j]] = subset_runs[j];
+        computed[rerun[j]] = 1;
+      }
+      std::int64_t c = c0;
+      for (std::int64_t k = block_first; k < block_last; ++k) {
+        while (k >= chunk_range(halved, n, c).second) ++c;
+        const auto i = static_cast<std::size_t>(k - block_first);
+        add_sample(m, c, k, releases[i], runs[i], computed[i] != 0, nullptr);
+      }
     }
   }
   return out;
+}
+
+std::vector<ChunkStats> compute_chunks(const Params& params, const Funnel& g, const EnsembleOptions& options,
+                                       bool halved, std::int64_t c0, std::int64_t c1) {
+  const Params* p = &params;
+  const Funnel* f = &g;
+  return std::move(compute_chain({&p, 1}, {&f, 1}, options, halved, c0, c1).front());
 }
 
 ChunkStats compute_chunk(const Params& params, const Funnel& g, const EnsembleOptions& options, bool halved,
@@ -315,9 +369,57 @@ EnsembleResult reduce_chunks(const Params& params, const EnsembleOptions& option
   return r;
 }
 
+namespace {
+
+/// Longest chain of points run together: the tasks of a long sweep over mu stay many.
+constexpr std::size_t max_chain = 8;
+
+/// Compares every parameter but mu (bit patterns, in table order; then the wall profile object):
+/// negative, 0 or positive; 0 for points that differ at most in mu.
+int compare_but_mu(const Params& a, const Params& b) {
+  for (const ParameterInfo& p : parameters(Space::ThreeD)) {
+    if (p.name == "mu") continue;
+    const auto x = std::bit_cast<std::uint64_t>(p.get(a)), y = std::bit_cast<std::uint64_t>(p.get(b));
+    if (x != y) return x < y ? -1 : 1;
+  }
+  if (a.profile == b.profile) return 0;
+  return std::less<const ProfileSpec*>()(a.profile.get(), b.profile.get()) ? -1 : 1;
+}
+
+/// The sweep's points in the chains that compute_chain runs together: points that differ only in
+/// mu, in ascending mu, and are all mirror symmetric or all not (`mirror`: a wall profile may
+/// give one side its own mu), at most max_chain per chain (each point a chain of its own with a
+/// wear record). Chains in the order of their first point.
+std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>& points, const std::vector<char>& mirror,
+                                                      const EnsembleOptions& options) {
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const bool chained = options.wear_bins == 0;
+  if (chained) {
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
+      const int c = compare_but_mu(points[i], points[j]);
+      return c != 0 ? c < 0 : points[i].mu < points[j].mu;
+    });
+  }
+  std::vector<std::vector<std::size_t>> chains;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::size_t a = i > 0 ? order[i - 1] : 0, b = order[i];
+    if (chained && i > 0 && chains.back().size() < max_chain && mirror[a] == mirror[b] && compare_but_mu(points[a], points[b]) == 0) {
+      chains.back().push_back(order[i]);
+    } else {
+      chains.push_back({order[i]});
+    }
+  }
+  std::sort(chains.begin(), chains.end(), [](const auto& a, const auto& b) {
+    return *std::min_element(a.begin(), a.end()) < *std::min_element(b.begin(), b.end());
+  });
+  return chains;
+}
+
+}  // namespace
+
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
                                       const Progress& progress, const PointDone& point_done) {
-  const std::int64_t n_points = static_cast<std::int64_t>(points.size());
   std::vector<Funnel> funnels;
   std::vector<char> mirror;
   funnels.reserve(points.size());
@@ -325,16 +427,20 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
     funnels.push_back(make_funnel(p));
     mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
   }
-  // The same partition for every point; a task is a group of consecutive chunks of one point
+  // Points that differ only in mu run as chains: a trajectory that did not slide is the next
+  // point's too (compute_chain).
+  const std::vector<std::vector<std::size_t>> chains = friction_chains(points, mirror, options);
+  const auto n_chains = static_cast<std::int64_t>(chains.size());
+  // The same partition for every point; a task is a group of consecutive chunks of one chain
   // (one chunk unless chunks are smaller than min_batch samples). Grouping changes no bit: each
   // chunk's statistics are its own samples' in index order.
   const std::int64_t n_chunks = chunk_count(options.samples);
   const std::int64_t per_chunk = std::max<std::int64_t>(1, options.samples / 2 / n_chunks);
-  const std::int64_t spread = n_points * n_chunks / (tasks_per_thread * resolve_threads(options.threads));
+  const std::int64_t spread = n_chains * n_chunks / (tasks_per_thread * resolve_threads(options.threads));
   const std::int64_t group =
       std::clamp<std::int64_t>((min_batch + per_chunk - 1) / per_chunk, 1, std::max<std::int64_t>(1, std::min(n_chunks, spread)));
   const std::int64_t n_groups = (n_chunks + group - 1) / group;
-  const std::int64_t n_tasks = n_points * n_groups;
+  const std::int64_t n_tasks = n_chains * n_groups;
 
   std::vector<EnsembleResult> results(points.size());
   std::vector<std::vector<ChunkStats>> chunks(points.size());  // of the points in progress only
@@ -344,20 +450,32 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t task = 0; task < n_tasks; ++task) {
     if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
-    const auto point = static_cast<std::size_t>(task / n_groups);
+    const std::vector<std::size_t>& chain = chains[static_cast<std::size_t>(task / n_groups)];
     const std::int64_t c0 = (task % n_groups) * group;
     const std::int64_t c1 = std::min(n_chunks, c0 + group);
-    std::vector<ChunkStats> stats = compute_chunks(points[point], funnels[point], options, mirror[point] != 0, c0, c1);
+    std::vector<const Params*> chain_points;
+    std::vector<const Funnel*> chain_funnels;
+    for (const std::size_t point : chain) {
+      chain_points.push_back(&points[point]);
+      chain_funnels.push_back(&funnels[point]);
+    }
+    std::vector<std::vector<ChunkStats>> stats =
+        compute_chain(chain_points, chain_funnels, options, mirror[chain.front()] != 0, c0, c1);
 #pragma omp critical(funnel_sweep)
     {
-      std::vector<ChunkStats>& mine = chunks[point];
-      if (mine.empty()) mine.resize(static_cast<std::size_t>(n_chunks));
-      for (std::int64_t c = c0; c < c1; ++c) mine[static_cast<std::size_t>(c)] = std::move(stats[static_cast<std::size_t>(c - c0)]);
-      pending[point] -= c1 - c0;
-      if (pending[point] == 0) {
-        results[point] = reduce_chunks(points[point], options, std::move(mine));
-        mine = {};
-        if (point_done) point_done(point, results[point]);
+      for (std::size_t m = 0; m < chain.size(); ++m) {
+        const std::size_t point = chain[m];
+        std::vector<ChunkStats>& mine = chunks[point];
+        if (mine.empty()) mine.resize(static_cast<std::size_t>(n_chunks));
+        for (std::int64_t c = c0; c < c1; ++c) {
+          mine[static_cast<std::size_t>(c)] = std::move(stats[m][static_cast<std::size_t>(c - c0)]);
+        }
+        pending[point] -= c1 - c0;
+        if (pending[point] == 0) {
+          results[point] = reduce_chunks(points[point], options, std::move(mine));
+          mine = {};
+          if (point_done) point_done(point, results[point]);
+        }
       }
       ++finished;
       if (progress) progress(finished, n_tasks);

@@ -4,7 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
+#include "funnel/funnel.hpp"
+#include "funnel/random.hpp"
 #include "funnel/roots.hpp"
 #include "test_util.hpp"
 
@@ -227,6 +231,77 @@ TEST(Engine, ReleasedParticleFallsFreelyToTheFirstWall) {
   const double drop = g.y_release - x0 * g.tan_t;
   EXPECT_TRUE(near(log.events[0].time, std::sqrt(2.0 * drop), 1e-15));
   EXPECT_EQ(*log.events[0].wall, Wall::Right);
+}
+
+
+/// Any collision or face-contact phase that slid, or any edge contact, in an event log.
+class SlidingSeen final : public EventSink {
+ public:
+  void record(const Event& e) override {
+    seen = seen || e.regime == Regime::Sliding || e.kind == EventKind::EdgeContactStart;
+  }
+  bool seen = false;
+};
+
+TEST(Engine, ATrajectoryThatDidNotSlideIsTheSameForEveryLargerMu) {
+  // docs/model.md §4: without a sliding collision, a sliding phase of a face contact or an edge
+  // contact, mu enters only through tests that a larger mu passes too. Sweeps over mu reuse such
+  // trajectories (run_sweep), so this must hold bit for bit, on every kind of funnel.
+  std::vector<Params> funnels;
+  for (const double theta : {10.0, 30.0, 46.0, 60.0, 80.0}) {
+    for (const double e : {0.99, 0.5}) {
+      for (const double beta0 : {0.0, 0.31, -0.31}) funnels.push_back(params_with(theta, e, 1.0, beta0));
+    }
+  }
+  Params spout = params_with(50.0, 0.9, 1.0);
+  spout.spout_length = 0.2;
+  Params asymmetric = params_with(50.0, 0.95, 1.0, 0.2);
+  asymmetric.theta_left = 40.0;
+  asymmetric.theta_right = 55.0;
+  Params closed = params_with(60.0, 0.9, 1.0, 0.0, 0.0);
+  closed.t_max = 200.0;
+  Params hopper = params_with(60.0, 0.8, 1.0);
+  ProfileSpec spec;  // a shallow section over a steep one on the left; a ledge on the right, its own mu
+  spec.sides[0] = {{-2.0, 1.6}, {-0.5, 0.7340}, {-0.1, -0.3650}};
+  spec.sides[1] = {{0.9, 1.6}, {0.6, 0.3}, {0.35, 0.3}, {0.1, -0.3650}};
+  spec.mu[1] = 0.6;
+  hopper.profile = std::make_shared<const ProfileSpec>(spec);
+  funnels.insert(funnels.end(), {spout, asymmetric, closed, hopper});
+
+  const std::pair<double, double> mus[] = {{0.0, 0.05}, {0.2, 1.0}, {1.0, 5.0}, {0.5, std::nextafter(0.5, 1.0)}};
+  int reused = 0, slid = 0, changed = 0;
+  for (const Params& base : funnels) {
+    for (const auto& [mu_low, mu_high] : mus) {
+      Params low = base, high = base;
+      low.mu = mu_low;
+      high.mu = mu_high;
+      const Funnel f_low = make_funnel(low), f_high = make_funnel(high);
+      for (int k = 0; k < 24; ++k) {
+        // Releases along the line, some with a random velocity and spin.
+        State s = release_state(low, f_low, (2.0 * k + 1.0 - 24.0) / 24.0);
+        if (k % 3 == 0) {
+          s.v = {0.3 * standard_normal(7, 0, static_cast<std::uint64_t>(k)), 0.3 * standard_normal(7, 1, static_cast<std::uint64_t>(k))};
+          s.omega = 20.0 * standard_normal(7, 2, static_cast<std::uint64_t>(k));
+        }
+        SlidingSeen log;
+        const Trajectory a = simulate(low, f_low, s, &log);
+        const Trajectory b = simulate(high, f_high, s);
+        if (log.seen) EXPECT_TRUE(a.slid) << "theta " << low.theta << ", mu " << mu_low << ", release " << k;
+        if (a.slid) {
+          ++slid;
+          changed += !test::same_trajectory(a, b);
+          continue;
+        }
+        ++reused;
+        EXPECT_TRUE(test::same_trajectory(a, b)) << "theta " << low.theta << ", e " << low.e << ", beta0 " << low.beta0
+                                                 << ", mu " << mu_low << " -> " << mu_high << ", release " << k;
+      }
+    }
+  }
+  // Both kinds occur, and the flag is needed: some trajectories that slid do change.
+  EXPECT_GT(reused, 1000);
+  EXPECT_GT(slid, 1000);
+  EXPECT_GT(changed, 500);
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <memory>
 
+#include "funnel/funnel.hpp"
 #include "funnel/observables.hpp"
 #include "test_util.hpp"
 
@@ -14,8 +16,7 @@ namespace funnel {
 namespace {
 
 using test::near;
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using test::same_bits;
 
 void expect_identical(const Summary& a, const Summary& b) {
   EXPECT_TRUE(same_bits(a.mean, b.mean));
@@ -83,6 +84,57 @@ TEST(Ensemble, SweepEqualsIndependentEnsembles) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const EnsembleResult single = run_ensemble(points[i], opt);
     for (const ObservableInfo& o : observables()) expect_identical(sweep[i][o.id], single[o.id]);
+  }
+}
+
+TEST(Ensemble, ASweepOverMuReusesTheTrajectoriesThatDidNotSlideBitForBit) {
+  // run_sweep runs the points that differ only in mu as a chain, in ascending mu: at the next mu
+  // only the releases whose trajectory slid run again (docs/model.md §4). Every point must be
+  // exactly its ensemble alone, sample by sample, whatever the order of the points.
+  std::vector<Params> points;
+  Params p = default_params();
+  for (const double theta : {20.0, 46.0, 60.0}) {
+    for (const double beta0 : {0.0, 0.31}) {
+      for (const double mu : {5.0, 0.2, 1.0, 0.0, 0.05, 1.0 + 1e-12}) {
+        p.theta = theta;
+        p.beta0 = beta0;
+        p.mu = mu;
+        points.push_back(p);
+      }
+    }
+  }
+  Params hopper = default_params();  // a wall profile with its own mu on the right: mirror symmetric at mu = 0.6 only
+  ProfileSpec spec;
+  spec.sides[0] = {{-1.0, 1.2}, {-0.1, 0.0}};
+  spec.sides[1] = {{1.0, 1.2}, {0.1, 0.0}};
+  spec.mu[1] = 0.6;
+  hopper.profile = std::make_shared<const ProfileSpec>(spec);
+  for (const double mu : {0.6, 0.3, 2.0}) {
+    hopper.mu = mu;
+    points.push_back(hopper);
+  }
+  for (const ReleaseDist dist : {ReleaseDist::Line, ReleaseDist::Gaussian}) {
+    EnsembleOptions opt{301, dist, 2, true};
+    const auto sweep = run_sweep(points, opt);
+    std::int64_t chained = 0, alone = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const EnsembleResult single = run_ensemble(points[i], opt);
+      for (const ObservableInfo& o : observables()) expect_identical(sweep[i][o.id], single[o.id]);
+      EXPECT_EQ(sweep[i].exited, single.exited);
+      EXPECT_EQ(sweep[i].rest, single.rest);
+      EXPECT_EQ(sweep[i].trapped, single.trapped);
+      EXPECT_EQ(sweep[i].total_collisions, single.total_collisions);
+      EXPECT_LE(sweep[i].simulated_collisions, single.simulated_collisions);
+      ASSERT_EQ(sweep[i].per_sample.size(), single.per_sample.size());
+      for (std::size_t k = 0; k < single.per_sample.size(); ++k) {
+        ASSERT_TRUE(test::same_trajectory(sweep[i].per_sample[k].trajectory, single.per_sample[k].trajectory))
+            << "point " << i << " (theta " << points[i].theta << ", mu " << points[i].mu << "), sample " << k;
+      }
+      chained += sweep[i].simulated_collisions;
+      alone += single.simulated_collisions;
+    }
+    // The reuse is real: at mu = 1 and above nearly every trajectory sticks.
+    EXPECT_LT(static_cast<double>(chained), 0.8 * static_cast<double>(alone)) << chained << " vs " << alone;
   }
 }
 

@@ -29,6 +29,7 @@ struct ContactResult {
   Regime last_regime = Regime::Sliding;   ///< regime at the end
   FacePhase phases[2];        ///< the phases in order (for the wear along the face)
   int phase_count = 0;        ///< number of phases used (1 or 2)
+  bool slid = false;          ///< a sliding phase was run (even one of zero duration): the result depends on mu
 };
 
 /// Moves a particle in sustained contact with a face of the wall with mirror sign ws (normal
