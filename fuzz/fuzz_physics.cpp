@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <string>
@@ -356,17 +357,22 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
           "mirror release exits in a non-mirror state", a.exit_state.r.x, b.exit_state.r.x);
 }
 
-/// Every field of two trajectories the same (the orbit watch's stop included).
+/// The same double, bit for bit (+0 and -0 differ; a NaN equals its own bits).
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+bool same_state(const funnel::State& a, const funnel::State& b) {
+  return same_bits(a.r.x, b.r.x) && same_bits(a.r.y, b.r.y) && same_bits(a.v.x, b.v.x) && same_bits(a.v.y, b.v.y) &&
+         same_bits(a.omega, b.omega);
+}
+
+/// Every field of two trajectories the same, bit for bit.
 bool identical(const Trajectory& a, const Trajectory& b) {
-  return a.status == b.status && a.duration == b.duration && a.impulse == b.impulse &&
-         a.normal_impulse == b.normal_impulse && a.energy_loss == b.energy_loss &&
-         a.energy_loss_events == b.energy_loss_events && a.collisions == b.collisions &&
+  return a.status == b.status && same_bits(a.duration, b.duration) && same_bits(a.impulse, b.impulse) &&
+         same_bits(a.normal_impulse, b.normal_impulse) && same_bits(a.energy_loss, b.energy_loss) &&
+         same_bits(a.energy_loss_events, b.energy_loss_events) && a.collisions == b.collisions &&
          a.edge_collisions == b.edge_collisions && a.contacts == b.contacts && a.edge_contacts == b.edge_contacts &&
-         a.contact_time == b.contact_time && a.final_state.r.x == b.final_state.r.x &&
-         a.final_state.r.y == b.final_state.r.y && a.final_state.v.x == b.final_state.v.x &&
-         a.final_state.v.y == b.final_state.v.y && a.final_state.omega == b.final_state.omega &&
-         a.exit_state.r.x == b.exit_state.r.x && a.exit_state.v.x == b.exit_state.v.x &&
-         a.exit_state.v.y == b.exit_state.v.y && a.exit_state.omega == b.exit_state.omega && a.slid == b.slid;
+         same_bits(a.contact_time, b.contact_time) && a.stopped == b.stopped && a.stalled == b.stalled &&
+         same_state(a.final_state, b.final_state) && same_state(a.exit_state, b.exit_state) && a.slid == b.slid;
 }
 
 /// The releases `fractions` of p run together on every SIMD path give the scalar engine's

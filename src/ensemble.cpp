@@ -388,10 +388,18 @@ int compare_but_mu(const Params& a, const Params& b) {
 
 /// The sweep's points in the chains that compute_chain runs together: points that differ only in
 /// mu, in ascending mu, and are all mirror symmetric or all not (`mirror`: a wall profile may
-/// give one side its own mu), at most max_chain per chain (each point a chain of its own with a
+/// give one side its own mu), with the same release line, at most max_chain per chain (each point a chain of its own with a
 /// wear record). Chains in the order of their first point.
-std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>& points, const std::vector<char>& mirror,
-                                                      const EnsembleOptions& options) {
+std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>& points, const std::vector<Funnel>& funnels,
+                                                      const std::vector<char>& mirror, const EnsembleOptions& options) {
+  // compute_chain takes the releases from a chain's first funnel: the release line must be the
+  // same, bit for bit (it is, for walls that differ only in mu; checked, not assumed).
+  auto same_releases = [&](std::size_t a, std::size_t b) {
+    const Funnel &f = funnels[a], &g = funnels[b];
+    return std::bit_cast<std::uint64_t>(f.x_release_mid) == std::bit_cast<std::uint64_t>(g.x_release_mid) &&
+           std::bit_cast<std::uint64_t>(f.half_width) == std::bit_cast<std::uint64_t>(g.half_width) &&
+           std::bit_cast<std::uint64_t>(f.y_release) == std::bit_cast<std::uint64_t>(g.y_release);
+  };
   std::vector<std::size_t> order(points.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   const bool chained = options.wear_bins == 0;
@@ -404,7 +412,8 @@ std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>&
   std::vector<std::vector<std::size_t>> chains;
   for (std::size_t i = 0; i < order.size(); ++i) {
     const std::size_t a = i > 0 ? order[i - 1] : 0, b = order[i];
-    if (chained && i > 0 && chains.back().size() < max_chain && mirror[a] == mirror[b] && compare_but_mu(points[a], points[b]) == 0) {
+    if (chained && i > 0 && chains.back().size() < max_chain && mirror[a] == mirror[b] && compare_but_mu(points[a], points[b]) == 0 &&
+        same_releases(a, b)) {
       chains.back().push_back(order[i]);
     } else {
       chains.push_back({order[i]});
@@ -429,7 +438,7 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
   }
   // Points that differ only in mu run as chains: a trajectory that did not slide is the next
   // point's too (compute_chain).
-  const std::vector<std::vector<std::size_t>> chains = friction_chains(points, mirror, options);
+  const std::vector<std::vector<std::size_t>> chains = friction_chains(points, funnels, mirror, options);
   const auto n_chains = static_cast<std::int64_t>(chains.size());
   // The same partition for every point; a task is a group of consecutive chunks of one chain
   // (one chunk unless chunks are smaller than min_batch samples). Grouping changes no bit: each

@@ -48,6 +48,7 @@ TEST(Contact, RollingFromRestMatchesTheClosedForm) {
   const double length = (y0 - s.g.y_face_end) / s.g.sin_t;
   const double accel = s.g.sin_t / 1.4;
   EXPECT_EQ(r.first_regime, Regime::Rolling);
+  EXPECT_FALSE(r.slid);  // mu only passed the rolling test: the same contact for every larger mu
   EXPECT_TRUE(near(r.duration, std::sqrt(2.0 * length / accel), 1e-14));
   const double w = std::sqrt(2.0 * accel * length);
   EXPECT_TRUE(near(std::hypot(r.end.v.x, r.end.v.y), w, 1e-14));
@@ -65,6 +66,7 @@ TEST(Contact, SteepFaceSlidesWithKineticFriction) {
   const double length = (y0 - s.g.y_face_end) / s.g.sin_t;
   const double accel = s.g.sin_t - 0.1 * s.g.cos_t;
   EXPECT_EQ(r.last_regime, Regime::Sliding);
+  EXPECT_TRUE(r.slid);  // from zero slip straight into sliding: the contact depends on mu
   EXPECT_TRUE(near(r.duration, std::sqrt(2.0 * length / accel), 1e-12));
   // Energy: lost = drop in potential - gain in kinetic energy (translational + spin).
   const double ke = 0.5 * dot(r.end.v, r.end.v) + 0.5 * s.m.kappa * s.m.radius * s.m.radius * r.end.omega * r.end.omega;
@@ -80,6 +82,7 @@ TEST(Contact, SlipDecaysThenRollsAndEnergyBalances) {
   const ContactResult r = slide_on_face(start, s.f.sides[0].faces[0], -1.0, s.m);
   EXPECT_EQ(r.first_regime, Regime::Sliding);
   EXPECT_EQ(r.last_regime, Regime::Rolling);
+  EXPECT_TRUE(r.slid);
   const double e_start = energy(start, s.m.kappa, s.m.radius);
   const double e_end = energy(r.end, s.m.kappa, s.m.radius);
   EXPECT_TRUE(near(e_start - e_end, r.energy_lost, 1e-12));
