@@ -1,5 +1,5 @@
 // Google Benchmark: the collision law, one event search, one trajectory, the reference ensemble,
-// the batched path per SIMD path and the edge quartic's root.
+// the batched path per SIMD path, the edge quartic's root and a sweep over friction.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -157,6 +157,33 @@ void BM_EdgeRoot(benchmark::State& st) {
   st.counters["share_certified"] = roots > 0 ? static_cast<double>(certified) / static_cast<double>(roots) : 0.0;
 }
 BENCHMARK(BM_EdgeRoot)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+/// A sweep over friction: theta = 60, mu = 0.1, 0.2, 0.5, 1, 2, 5, N = 4000 each, one thread.
+/// Argument 1: one run_sweep, whose points run as a chain (a release runs again at the next mu
+/// only if its trajectory slid); 0: each point alone (run_ensemble), the cost without the
+/// chain. The same statistics either way; `computed_collisions` counts the collisions run.
+void BM_FrictionSweep(benchmark::State& st) {
+  std::vector<Params> points;
+  for (const double mu : {0.1, 0.2, 0.5, 1.0, 2.0, 5.0}) {
+    Params p = reference();
+    p.mu = mu;
+    points.push_back(p);
+  }
+  const EnsembleOptions opt{4000, ReleaseDist::Line, 1, false};
+  std::int64_t computed = 0, points_done = 0;
+  for (auto _ : st) {
+    if (st.range(0) == 1) {
+      for (const EnsembleResult& r : run_sweep(points, opt)) computed += r.simulated_collisions;
+    } else {
+      for (const Params& p : points) computed += run_ensemble(p, opt).simulated_collisions;
+    }
+    points_done += static_cast<std::int64_t>(points.size());
+  }
+  st.counters["points_per_second"] = benchmark::Counter(static_cast<double>(points_done), benchmark::Counter::kIsRate);
+  st.counters["computed_collisions"] =
+      benchmark::Counter(static_cast<double>(computed) / static_cast<double>(st.iterations()));
+}
+BENCHMARK(BM_FrictionSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
