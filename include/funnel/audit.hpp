@@ -36,7 +36,10 @@ inline constexpr double audit_tolerance = 1e-9;
 /// tolerance is the larger.
 inline constexpr double audit_floor = 1e-12;
 
-/// The audit's relative tolerance for a particle of radius a in a funnel of the given size.
+/// The audit's relative tolerance for a particle of radius a in a funnel of the given size. At
+/// an edge, a flight is also allowed the rounding of its own quartic, 16 eps ((|d| + |v| T +
+/// T^2/2) / a)^2 (d from the edge point at its start, T its duration; at most 1e-3): the engine
+/// cannot place the contact better (src/audit.cpp edge_conditioning; docs/robustness.md).
 inline double audit_tolerance_for(double radius, double size = 1.0) {
   const double floor = audit_floor * (size > 1.0 ? size : 1.0) / radius;
   return audit_tolerance > floor ? audit_tolerance : floor;
