@@ -208,11 +208,12 @@ constexpr std::int64_t max_block = 4096;
 
 /// Chunks [c0, c1) of a chain of points (`points`, with their funnels): one point, or points
 /// that differ only in mu, in ascending mu (friction_chains). Returns each point's chunks, in
-/// chain order, each with its samples in index order (the one computation behind run_chunk and
-/// run_sweep). Without a wear record the trajectories run together, in blocks of at most
-/// max_block releases (simulate_many: the batched path of a V), and along a chain a release runs
-/// again only if its trajectory at the point before slid: otherwise it is the same trajectory
-/// (Trajectory::slid, docs/model.md §4). Each chunk's statistics are the same either way.
+/// chain order, each with its samples in index order (the one computation behind run_chunk, a
+/// chain of one, and run_sweep). Without a wear record the trajectories run together, in blocks
+/// of at most max_block releases (simulate_many: the batched path of a V), and along a chain a
+/// release runs again only if its trajectory at the point before slid: otherwise it is the same
+/// trajectory (Trajectory::slid, docs/model.md §4). Each chunk's statistics are the same either
+/// way.
 std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const> points,
                                                    std::span<const Funnel* const> funnels, const EnsembleOptions& options,
                                                    bool halved, std::int64_t c0, std::int64_t c1) {
@@ -269,22 +270,28 @@ std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const
     releases.clear();
     for (std::int64_t b = block_first; b < block_last; ++b) releases.push_back(sample_release(first, g, options, b));
     for (std::size_t m = 0; m < members; ++m) {
-      // The releases to run: all at the chain's first point; then those whose trajectory slid.
-      rerun.clear();
-      subset.clear();
-      for (std::size_t i = 0; i < releases.size(); ++i) {
-        if (m == 0 || runs[i].slid) {
-          rerun.push_back(i);
-          subset.push_back(releases[i]);
+      if (m == 0) {
+        // The chain's first point runs every release.
+        runs.resize(releases.size());
+        simulate_many(*points[m], *funnels[m], releases, runs);
+        computed.assign(releases.size(), 1);
+      } else {
+        // The next points run again only the releases whose trajectory slid.
+        rerun.clear();
+        subset.clear();
+        for (std::size_t i = 0; i < releases.size(); ++i) {
+          if (runs[i].slid) {
+            rerun.push_back(i);
+            subset.push_back(releases[i]);
+          }
         }
-      }
-      subset_runs.resize(subset.size());
-      simulate_many(*points[m], *funnels[m], subset, subset_runs);
-      runs.resize(releases.size());
-      computed.assign(releases.size(), 0);
-      for (std::size_t j = 0; j < rerun.size(); ++j) {
-        runs[rerun[j]] = subset_runs[j];
-        computed[rerun[j]] = 1;
+        subset_runs.resize(subset.size());
+        simulate_many(*points[m], *funnels[m], subset, subset_runs);
+        computed.assign(releases.size(), 0);
+        for (std::size_t j = 0; j < rerun.size(); ++j) {
+          runs[rerun[j]] = subset_runs[j];
+          computed[rerun[j]] = 1;
+        }
       }
       std::int64_t c = c0;
       for (std::int64_t k = block_first; k < block_last; ++k) {
@@ -297,22 +304,13 @@ std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const
   return out;
 }
 
-std::vector<ChunkStats> compute_chunks(const Params& params, const Funnel& g, const EnsembleOptions& options,
-                                       bool halved, std::int64_t c0, std::int64_t c1) {
-  const Params* p = &params;
-  const Funnel* f = &g;
-  return std::move(compute_chain({&p, 1}, {&f, 1}, options, halved, c0, c1).front());
-}
-
-ChunkStats compute_chunk(const Params& params, const Funnel& g, const EnsembleOptions& options, bool halved,
-                         std::int64_t chunk) {
-  return std::move(compute_chunks(params, g, options, halved, chunk, chunk + 1).front());
-}
-
 }  // namespace
 
 ChunkStats run_chunk(const Params& params, const EnsembleOptions& options, std::int64_t chunk) {
-  return compute_chunk(params, make_funnel(params), options, mirror_symmetric(params, options), chunk);
+  const Funnel g = make_funnel(params);
+  const Params* p = &params;
+  const Funnel* f = &g;
+  return std::move(compute_chain({&p, 1}, {&f, 1}, options, mirror_symmetric(params, options), chunk, chunk + 1)[0][0]);
 }
 
 std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const EnsembleOptions& options,
