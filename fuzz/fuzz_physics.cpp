@@ -29,7 +29,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <memory>
 #include <random>
 #include <string>
@@ -48,6 +47,7 @@
 #include "funnel/params.hpp"
 #include "funnel/walton.hpp"
 #include "../tests/plain_refinement.hpp"
+#include "../tests/same_bits.hpp"
 
 namespace {
 
@@ -357,23 +357,7 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
           "mirror release exits in a non-mirror state", a.exit_state.r.x, b.exit_state.r.x);
 }
 
-/// The same double, bit for bit (+0 and -0 differ; a NaN equals its own bits).
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-bool same_state(const funnel::State& a, const funnel::State& b) {
-  return same_bits(a.r.x, b.r.x) && same_bits(a.r.y, b.r.y) && same_bits(a.v.x, b.v.x) && same_bits(a.v.y, b.v.y) &&
-         same_bits(a.omega, b.omega);
-}
-
-/// Every field of two trajectories the same, bit for bit.
-bool identical(const Trajectory& a, const Trajectory& b) {
-  return a.status == b.status && same_bits(a.duration, b.duration) && same_bits(a.impulse, b.impulse) &&
-         same_bits(a.normal_impulse, b.normal_impulse) && same_bits(a.energy_loss, b.energy_loss) &&
-         same_bits(a.energy_loss_events, b.energy_loss_events) && a.collisions == b.collisions &&
-         a.edge_collisions == b.edge_collisions && a.contacts == b.contacts && a.edge_contacts == b.edge_contacts &&
-         same_bits(a.contact_time, b.contact_time) && a.stopped == b.stopped && a.stalled == b.stalled &&
-         same_state(a.final_state, b.final_state) && same_state(a.exit_state, b.exit_state) && a.slid == b.slid;
-}
+using funnel::test::identical;
 
 /// The releases `fractions` of p run together on every SIMD path give the scalar engine's
 /// trajectories bit for bit (the batched path of src/batch.cpp; other funnels run one at a time).

@@ -286,7 +286,9 @@ TEST(Engine, ATrajectoryThatDidNotSlideIsTheSameForEveryLargerMu) {
         SlidingSeen log;
         const Trajectory a = simulate(low, f_low, s, &log);
         const Trajectory b = simulate(high, f_high, s);
-        if (log.seen) EXPECT_TRUE(a.slid) << "theta " << low.theta << ", mu " << mu_low << ", release " << k;
+        if (log.seen) {
+          EXPECT_TRUE(a.slid) << "theta " << low.theta << ", mu " << mu_low << ", release " << k;
+        }
         if (a.slid) {
           ++slid;
           changed += !test::same_trajectory(a, b);

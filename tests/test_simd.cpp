@@ -2,7 +2,6 @@
 // path this CPU runs, and it is the path that computes the collisions.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
