@@ -231,33 +231,51 @@ Message receive(int from) {
   return m;
 }
 
-// ---- The work: tasks t = point * chunks + chunk, dealt as units [first, last) of consecutive tasks ----
+// ---- The work: tasks, each one chunk of one point, dealt as units [first, last) of consecutive tasks ----
 
-/// The (point, chunk) ids of the tasks [first, last).
-std::vector<ChunkId> task_ids(std::int64_t first, std::int64_t last, std::int64_t chunks) {
-  std::vector<ChunkId> ids;
-  for (std::int64_t t = first; t < last; ++t) ids.push_back({static_cast<std::size_t>(t / chunks), t % chunks});
-  return ids;
+/// The tasks of a run in the order they are dealt: chain by chain (friction_chains, the points
+/// of a chain consecutive in `points`), and within a chain chunk by chunk, its members' chunk c
+/// next to each other, so that a unit gives run_chunks the same chunk of a chain's points.
+std::vector<ChunkId> chained_tasks(const std::vector<std::vector<std::size_t>>& chains, std::int64_t chunks) {
+  std::vector<ChunkId> tasks;
+  std::size_t first = 0;
+  for (const std::vector<std::size_t>& chain : chains) {
+    for (std::int64_t c = 0; c < chunks; ++c) {
+      for (std::size_t m = 0; m < chain.size(); ++m) tasks.push_back({first + m, c});
+    }
+    first += chain.size();
+  }
+  return tasks;
 }
 
-/// A rank's answer to a unit: per point, the chunks computed; those starting at chunk 0 folded
-/// into one prefix (fold_chunk), which is what rank 0's reduction starts with anyway.
+/// A rank's answer to a unit: per point, its chunks computed (a consecutive range: a unit's
+/// tasks are consecutive); those starting at chunk 0 folded into one prefix (fold_chunk), which
+/// is what rank 0's reduction starts with anyway.
 std::vector<char> encode_result(const std::vector<ChunkId>& ids, std::vector<ChunkStats> stats) {
+  std::vector<std::size_t> order(ids.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return ids[a].point != ids[b].point ? ids[a].point < ids[b].point : ids[a].chunk < ids[b].chunk;
+  });
   Writer w;
-  for (std::size_t i = 0; i < ids.size();) {
-    std::size_t j = i;
-    while (j < ids.size() && ids[j].point == ids[i].point) ++j;
-    const bool folded = ids[i].chunk == 0;
-    w.put(static_cast<std::uint64_t>(ids[i].point));
-    w.put(ids[i].chunk);
+  for (std::size_t i = 0; i < order.size();) {
+    const ChunkId& start = ids[order[i]];
+    std::size_t j = i + 1;
+    while (j < order.size() && ids[order[j]].point == start.point &&
+           ids[order[j]].chunk == start.chunk + static_cast<std::int64_t>(j - i)) {
+      ++j;
+    }
+    const bool folded = start.chunk == 0;
+    w.put(static_cast<std::uint64_t>(start.point));
+    w.put(start.chunk);
     w.put(static_cast<std::int64_t>(j - i));
     w.put(static_cast<char>(folded));
     if (folded) {
       ChunkStats prefix;
-      for (std::size_t k = i; k < j; ++k) fold_chunk(prefix, std::move(stats[k]));
+      for (std::size_t k = i; k < j; ++k) fold_chunk(prefix, std::move(stats[order[k]]));
       put_chunk(w, prefix);
     } else {
-      for (std::size_t k = i; k < j; ++k) put_chunk(w, stats[k]);
+      for (std::size_t k = i; k < j; ++k) put_chunk(w, stats[order[k]]);
     }
     i = j;
   }
@@ -454,11 +472,18 @@ int MpiSession::serve() {
       const auto first = unit.get<std::int64_t>();
       const auto last = unit.get<std::int64_t>();
       if (first == last) continue;  // no work left
-      // The unit's points come with it (points first / chunks ...), indexed from 0 here.
+      // The unit's tasks and points come with it: the points from the first it names, indexed
+      // from 0 here.
+      const auto point_base = static_cast<std::size_t>(unit.get<std::uint64_t>());
+      const std::vector<ChunkId> ids = unit.get_vector<ChunkId>();
       const std::vector<Params> points = unpack_params(unit.get_vector<double>(), profile);
-      const std::vector<ChunkId> ids = task_ids(first, last, chunks);
       std::vector<ChunkId> local = ids;
-      for (ChunkId& id : local) id.point -= static_cast<std::size_t>(first / chunks);
+      for (ChunkId& id : local) {
+        if (id.point < point_base || id.point - point_base >= points.size() || id.chunk < 0 || id.chunk >= chunks) {
+          throw std::runtime_error("MPI unit with an invalid task");
+        }
+        id.point -= point_base;
+      }
       std::vector<char> bytes = encode_result(ids, run_chunks(points, options, local));
       send(0, Result, bytes);
       ++in_flight;
@@ -495,13 +520,34 @@ std::string mpi_help() {
 int mpi_rank() { return rank_; }
 int mpi_size() { return size_; }
 
-std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
+std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& given, const EnsembleOptions& options,
                                               const Progress& progress, const PointDone& point_done) {
-  if (size_ == 1) return run_sweep(points, options, progress, point_done);
+  if (size_ == 1) return run_sweep(given, options, progress, point_done);
   static_assert(std::is_trivially_copyable_v<EnsembleOptions>);
+  // The points in chain order (points that differ only in mu next to each other, in ascending
+  // mu), and the tasks chain by chain, chunk by chunk: a unit then gives run_chunks the same
+  // chunk of a chain's points, which it runs together.
+  const std::vector<std::vector<std::size_t>> chains = friction_chains(given, options);
+  std::vector<std::size_t> order;
+  std::vector<Params> points;
+  order.reserve(given.size());
+  points.reserve(given.size());
+  std::vector<std::size_t> chain_of;  // of the points in chain order
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    for (const std::size_t i : chains[c]) {
+      order.push_back(i);
+      points.push_back(given[i]);
+      chain_of.push_back(c);
+    }
+  }
+  const std::int64_t chunks = chunk_count(options.samples);
+  const std::vector<ChunkId> task_list = chained_tasks(chains, chunks);
+  const PointDone done_in_given_order = !point_done ? PointDone{} : [&](std::size_t i, const EnsembleResult& r) {
+    point_done(order[i], r);
+  };
   // Every point of a run shares one profile (the --geometry of a sweep), sent once with the job.
   const std::shared_ptr<const ProfileSpec> profile = points.empty() ? nullptr : points.front().profile;
-  Assembly assembly(points, options, progress, point_done);
+  Assembly assembly(points, options, progress, done_in_given_order);
   Outbox out;
   for (int r = 1; r < size_; ++r) {
     Writer w;
@@ -521,10 +567,19 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
   std::int64_t next = 0;
   auto deal = [&] {
     const std::int64_t left = tasks - next;
-    const std::int64_t size = std::min({left, unit_max, std::max(threads, (left + 2 * ranks - 1) / (2 * ranks))});
-    const std::pair<std::int64_t, std::int64_t> unit{next, next + size};
-    next += size;
+    std::int64_t last = next + std::min({left, unit_max, std::max(threads, (left + 2 * ranks - 1) / (2 * ranks))});
+    // A unit ends where a chunk of a chain does: its members' chunk runs as one chain.
+    const auto task = [&](std::int64_t t) { return task_list[static_cast<std::size_t>(t)]; };
+    while (last < tasks && task(last).chunk == task(last - 1).chunk &&
+           chain_of[task(last).point] == chain_of[task(last - 1).point]) {
+      ++last;
+    }
+    const std::pair<std::int64_t, std::int64_t> unit{next, last};
+    next = last;
     return unit;
+  };
+  const auto unit_ids = [&](std::int64_t first, std::int64_t last) {
+    return std::vector<ChunkId>(task_list.begin() + first, task_list.begin() + last);
   };
 
   // Rank 0 computes units too, on a second thread; this thread only talks and reduces.
@@ -539,7 +594,7 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
     }
     if (!local.valid() && next < tasks) {
       const auto [first, last] = deal();
-      local_ids = task_ids(first, last, assembly.chunks());
+      local_ids = unit_ids(first, last);
       local = std::async(std::launch::async, [&points, &options, ids = local_ids] { return run_chunks(points, options, ids); });
     }
     Message m;
@@ -550,8 +605,17 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
       w.put(first);
       w.put(last);
       if (first < last) {
-        const auto begin = points.begin() + first / assembly.chunks();
-        w.put_vector(pack_params(std::vector<Params>(begin, points.begin() + (last - 1) / assembly.chunks() + 1)));
+        // The unit's tasks, and its points: a range, as the tasks follow the points' order.
+        const std::vector<ChunkId> ids = unit_ids(first, last);
+        std::size_t low = ids.front().point, high = low;
+        for (const ChunkId& id : ids) {
+          low = std::min(low, id.point);
+          high = std::max(high, id.point);
+        }
+        w.put(static_cast<std::uint64_t>(low));
+        w.put_vector(ids);
+        w.put_vector(pack_params(std::vector<Params>(points.begin() + static_cast<std::ptrdiff_t>(low),
+                                                     points.begin() + static_cast<std::ptrdiff_t>(high) + 1)));
       }
       out.post(m.from, Unit, std::move(w.bytes()));
       released += first == last;
@@ -566,7 +630,10 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& points,
       }
     }
   }
-  return assembly.take_results();
+  std::vector<EnsembleResult> in_order = assembly.take_results();
+  std::vector<EnsembleResult> results(given.size());
+  for (std::size_t i = 0; i < order.size(); ++i) results[order[i]] = std::move(in_order[i]);
+  return results;
 }
 
 }  // namespace funnel::cli

@@ -10,6 +10,7 @@
 #include <functional>
 #include <span>
 #include <iterator>
+#include <map>
 #include <utility>
 
 #include "funnel/geometry.hpp"
@@ -313,19 +314,6 @@ ChunkStats run_chunk(const Params& params, const EnsembleOptions& options, std::
   return std::move(compute_chain({&p, 1}, {&f, 1}, options, mirror_symmetric(params, options), chunk, chunk + 1)[0][0]);
 }
 
-std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const EnsembleOptions& options,
-                                   const std::vector<ChunkId>& ids) {
-  std::vector<ChunkStats> out(ids.size());
-  const auto n = static_cast<std::int64_t>(ids.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
-  for (std::int64_t i = 0; i < n; ++i) {
-    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
-    const ChunkId& id = ids[static_cast<std::size_t>(i)];
-    out[static_cast<std::size_t>(i)] = run_chunk(points[id.point], options, id.chunk);
-  }
-  return out;
-}
-
 void fold_chunk(ChunkStats& prefix, ChunkStats next) {
   merge(prefix, next);
   if (prefix.samples.empty()) {
@@ -424,6 +412,90 @@ std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>&
 }
 
 }  // namespace
+
+std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>& points, const EnsembleOptions& options) {
+  std::vector<Funnel> funnels;
+  std::vector<char> mirror;
+  funnels.reserve(points.size());
+  for (const Params& p : points) {
+    funnels.push_back(make_funnel(p));
+    mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
+  }
+  return friction_chains(points, funnels, mirror, options);
+}
+
+std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const EnsembleOptions& options,
+                                   const std::vector<ChunkId>& ids) {
+  // The points the ids name, in chains (friction_chains); a group is the members of one chain
+  // that have the same chunk among the ids, run together by compute_chain. Any subset of a chain
+  // is a chain: the reuse holds for every larger mu.
+  std::vector<std::size_t> named;
+  for (const ChunkId& id : ids) named.push_back(id.point);
+  std::sort(named.begin(), named.end());
+  named.erase(std::unique(named.begin(), named.end()), named.end());
+  std::vector<Params> used;
+  std::vector<Funnel> funnels;
+  std::vector<char> mirror;
+  for (const std::size_t point : named) {
+    used.push_back(points[point]);
+    funnels.push_back(make_funnel(points[point]));
+    mirror.push_back(mirror_symmetric(points[point], options) ? 1 : 0);
+  }
+  const auto local = [&named](std::size_t point) {
+    return static_cast<std::size_t>(std::lower_bound(named.begin(), named.end(), point) - named.begin());
+  };
+  struct Group {
+    std::int64_t chunk = 0;
+    std::vector<std::size_t> members;  // local indices, in ascending mu
+    std::vector<std::size_t> slots;    // the members' positions in ids
+  };
+  std::vector<Group> groups;
+  std::vector<std::pair<std::size_t, std::size_t>> repeated;  // an id named again: (position, first position)
+  {
+    std::map<std::pair<std::size_t, std::int64_t>, std::size_t> slot_of;  // (local point, chunk) -> position in ids
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const auto [it, added] = slot_of.emplace(std::pair{local(ids[i].point), ids[i].chunk}, i);
+      if (!added) repeated.emplace_back(i, it->second);
+    }
+    std::vector<std::size_t> chain_of(used.size());
+    const std::vector<std::vector<std::size_t>> chains = friction_chains(used, funnels, mirror, options);
+    for (std::size_t c = 0; c < chains.size(); ++c) {
+      for (const std::size_t m : chains[c]) chain_of[m] = c;
+    }
+    std::map<std::pair<std::size_t, std::int64_t>, std::size_t> group_of;  // (chain, chunk) -> group
+    for (const auto& [key, slot] : slot_of) {
+      const auto [it, added] = group_of.emplace(std::pair{chain_of[key.first], key.second}, groups.size());
+      if (added) groups.push_back({key.second, {}, {}});
+    }
+    for (const std::vector<std::size_t>& chain : chains) {
+      for (const std::size_t m : chain) {
+        for (auto it = slot_of.lower_bound({m, 0}); it != slot_of.end() && it->first.first == m; ++it) {
+          Group& g = groups[group_of.at({chain_of[m], it->first.second})];
+          g.members.push_back(m);
+          g.slots.push_back(it->second);
+        }
+      }
+    }
+  }
+  std::vector<ChunkStats> out(ids.size());
+  const auto n = static_cast<std::int64_t>(groups.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
+  for (std::int64_t i = 0; i < n; ++i) {
+    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
+    const Group& g = groups[static_cast<std::size_t>(i)];
+    std::vector<const Params*> chain_points;
+    std::vector<const Funnel*> chain_funnels;
+    for (const std::size_t m : g.members) {
+      chain_points.push_back(&used[m]);
+      chain_funnels.push_back(&funnels[m]);
+    }
+    std::vector<std::vector<ChunkStats>> stats =
+        compute_chain(chain_points, chain_funnels, options, mirror[g.members.front()] != 0, g.chunk, g.chunk + 1);
+    for (std::size_t k = 0; k < g.members.size(); ++k) out[g.slots[k]] = std::move(stats[k][0]);
+  }
+  for (const auto& [again, first] : repeated) out[again] = out[first];
+  return out;
+}
 
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
                                       const Progress& progress, const PointDone& point_done) {

@@ -440,6 +440,59 @@ TEST(Ensemble, ChunksComputedInAnyOrderAndSplitReduceToRunEnsembleBitForBit) {
   }
 }
 
+TEST(Ensemble, RunChunksRunsTheChunksOfPointsThatDifferOnlyInMuAsChainsBitForBit) {
+  // What an MPI run computes (run_chunks on a unit of tasks): the ids' points that differ only
+  // in mu run each shared chunk as a chain, and every chunk must still be run_chunk's, bit for
+  // bit, whatever the order of the ids, with chunks missing for some points and an id named twice.
+  Params p = default_params();
+  std::vector<Params> points;
+  for (const double mu : {1.0, 2.0, 5.0}) {
+    p.mu = mu;
+    points.push_back(p);
+  }
+  p.theta = 46.0;
+  p.mu = 0.5;
+  points.push_back(p);
+  const std::vector<ChunkId> ids{{0, 3}, {1, 0}, {2, 1}, {0, 1}, {3, 0}, {1, 1}, {1, 2}, {0, 0},
+                                 {1, 3}, {2, 2}, {3, 1}, {1, 2}};
+  for (const ReleaseDist dist : {ReleaseDist::Line, ReleaseDist::Gaussian}) {
+    const EnsembleOptions o{301, dist, 2, true};
+    const std::vector<ChunkStats> got = run_chunks(points, o, ids);
+    ASSERT_EQ(got.size(), ids.size());
+    std::int64_t chained = 0, alone = 0;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const ChunkStats want = run_chunk(points[ids[i].point], o, ids[i].chunk);
+      const ChunkStats& c = got[i];
+      for (std::size_t k = 0; k < want.acc.size(); ++k) {
+        const Accumulator &a = c.acc[k], &b = want.acc[k];
+        EXPECT_TRUE(a.n == b.n && same_bits(a.mean, b.mean) && same_bits(a.m2, b.m2) && same_bits(a.min, b.min) &&
+                    same_bits(a.max, b.max))
+            << "id " << i << ", observable " << k;
+      }
+      EXPECT_EQ(c.exited, want.exited);
+      EXPECT_EQ(c.rest, want.rest);
+      EXPECT_EQ(c.trapped, want.trapped);
+      EXPECT_EQ(c.total_collisions, want.total_collisions);
+      EXPECT_LE(c.simulated_collisions, want.simulated_collisions);
+      ASSERT_EQ(c.samples.size(), want.samples.size()) << i;
+      for (std::size_t k = 0; k < want.samples.size(); ++k) {
+        ASSERT_TRUE(test::same_trajectory(c.samples[k].trajectory, want.samples[k].trajectory)) << "id " << i << ", sample " << k;
+      }
+      chained += c.simulated_collisions;
+      alone += want.simulated_collisions;
+    }
+    // The reuse is real: at mu = 1 nearly every trajectory of theta = 60 sticks.
+    EXPECT_LT(static_cast<double>(chained), 0.7 * static_cast<double>(alone)) << chained << " vs " << alone;
+  }
+  // The chains an MPI run deals together: each in ascending mu, in the order of their first point.
+  std::vector<Params> mixed{points[3], points[1], points[0], points[3], points[2]};  // mu: 0.5 (46°), 2, 1, 0.5 (47°), 5
+  mixed[3].theta = 47.0;
+  EXPECT_EQ(friction_chains(mixed, EnsembleOptions{}), (std::vector<std::vector<std::size_t>>{{0}, {2, 1, 4}, {3}}));
+  EnsembleOptions wear;
+  wear.wear_bins = 4;  // a point with a wear record runs alone
+  EXPECT_EQ(friction_chains(mixed, wear), (std::vector<std::vector<std::size_t>>{{0}, {1}, {2}, {3}, {4}}));
+}
+
 TEST(Ensemble, OptionsAreValidatedWithTheirNameValueAndRange) {
   EnsembleOptions o;
   EXPECT_FALSE(validate(o).has_value());

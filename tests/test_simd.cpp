@@ -144,7 +144,9 @@ TEST(Simd, AVWithAMaterialPerWallIsTheSameBitsOnEveryPath) {
     for (std::size_t k = 0; k < initial.size(); ++k) {
       ASSERT_TRUE(same_trajectory(got[k], expected[k])) << "path " << path << ", sample " << k;
     }
-    if (path != "scalar") EXPECT_GT(in_lanes, 0) << path;
+    if (path != "scalar") {
+      EXPECT_GT(in_lanes, 0) << path;
+    }
   }
 }
 
@@ -202,7 +204,9 @@ TEST(Simd, ClosedFunnelsWithTheOrbitWatchAreTheSameBitsOnEveryPath) {
     }
     // In the symmetric Vs every release ends periodic or at rest; the asymmetric V's orbits do
     // not repeat their heights, and its runs reach the time cap (undecided), on every path alike.
-    if (p.left_angle() == p.right_angle()) EXPECT_EQ(periodic + rest, 61) << "theta " << p.left_angle() << ", e " << p.e;
+    if (p.left_angle() == p.right_angle()) {
+      EXPECT_EQ(periodic + rest, 61) << "theta " << p.left_angle() << ", e " << p.e;
+    }
     for (const std::string& path : simd_paths()) {
       const PathScope scope(path);
       std::vector<Trajectory> got(initial.size());
@@ -218,7 +222,9 @@ TEST(Simd, ClosedFunnelsWithTheOrbitWatchAreTheSameBitsOnEveryPath) {
         EXPECT_EQ(watches[k].memory().streak, expected_watches[k].memory().streak);
         collisions += got[k].collisions;
       }
-      if (path != "scalar") EXPECT_GT(2 * in_lanes, collisions) << path;  // a closed V has no edge: nearly all
+      if (path != "scalar") {  // a closed V has no edge: nearly all
+        EXPECT_GT(2 * in_lanes, collisions) << path;
+      }
     }
   }
   // run_closed (Figs. 11-12) on every path, sample by sample.

@@ -131,6 +131,9 @@ struct ChunkId {
 
 /// Computes the chunks `ids` of the points' ensembles in parallel (options.threads); results in
 /// the order of `ids`, each the same, bit for bit, as run_chunk's. Honours options.cancel.
+/// Points among them that differ only in mu run the same chunk as a chain, as in run_sweep: a
+/// release runs again at a larger mu only if its trajectory slid (docs/model.md §4), so
+/// simulated_collisions counts only those.
 std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const EnsembleOptions& options,
                                    const std::vector<ChunkId>& ids);
 
@@ -155,6 +158,12 @@ using PointDone = std::function<void(std::size_t, const EnsembleResult&)>;
 /// result is the same, bit for bit, as run_ensemble of that point alone.
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
                                       const Progress& progress = {}, const PointDone& point_done = {});
+
+/// The chains run_sweep runs together: lists of the points' indices, each of points that differ
+/// only in mu, in ascending mu (at most 8; a point alone if no other qualifies), the chains in
+/// the order of their first point. An MPI run deals a chain's chunks chunk by chunk, so that
+/// run_chunks gets the members' same chunk together.
+std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>& points, const EnsembleOptions& options);
 
 /// Number of threads used for `threads` = 0 (all cores) or the value itself.
 int resolve_threads(int threads);
