@@ -35,21 +35,42 @@ struct Probe {
   std::vector<double> rest_angle;  ///< angle of the outgoing velocity to the upward vertical, (-pi, pi]
 };
 
-Probe probe(const Params& p, const Geometry& g, double fraction, int k) {
+/// Keeps the face collisions of a run up to its first other event, and ends the run there.
+class ProbeSink final : public EventSink {
+ public:
+  ProbeSink(const Geometry& g, Probe& out) : g_(g), out_(out) {}
+  void record(const Event& e) override {
+    if (done_) return;
+    if (e.kind != EventKind::Face) {
+      done_ = true;  // an edge, a contact or the exit ends the clean prefix
+      return;
+    }
+    const Vec2 n = face_normal(g_, *e.wall);
+    const Vec2 tau = up_tangent(g_, *e.wall);
+    out_.hits.push_back(e);
+    out_.sequence += *e.wall == Wall::Left ? 'L' : 'R';
+    out_.wall_angle.push_back(std::atan2(dot(e.velocity_before, tau), -dot(e.velocity_before, n)));
+    out_.rest_angle.push_back(std::atan2(e.velocity_after.x, e.velocity_after.y));
+  }
+  bool finished() const override { return done_; }
+
+ private:
+  const Geometry& g_;
+  Probe& out_;
+  bool done_ = false;
+};
+
+Probe probe(const Params& p, const Geometry& g, const Funnel& f, double fraction, int k) {
   Params q = p;
   q.max_collisions = k;
-  EventLog log;
-  simulate_release(q, g, fraction, &log);
   Probe out;
-  for (const Event& e : log.events) {
-    if (e.kind != EventKind::Face) break;  // an edge, a contact or the exit ends the clean prefix
-    const Vec2 n = face_normal(g, *e.wall);
-    const Vec2 tau = up_tangent(g, *e.wall);
-    out.hits.push_back(e);
-    out.sequence += *e.wall == Wall::Left ? 'L' : 'R';
-    out.wall_angle.push_back(std::atan2(dot(e.velocity_before, tau), -dot(e.velocity_before, n)));
-    out.rest_angle.push_back(std::atan2(e.velocity_after.x, e.velocity_after.y));
-  }
+  const auto n = static_cast<std::size_t>(std::max(k, 0));
+  out.hits.reserve(n);
+  out.sequence.reserve(n);
+  out.wall_angle.reserve(n);
+  out.rest_angle.reserve(n);
+  ProbeSink sink(g, out);
+  simulate_release(q, f, fraction, &sink);
   return out;
 }
 
@@ -82,7 +103,7 @@ int agreeing_prefix(const Probe& a, const Probe& b) {
 
 class Search {
  public:
-  Search(const Params& p, const Options& o) : p_(p), g_(make_geometry(p)), opt_(o) {}
+  Search(const Params& p, const Options& o) : p_(p), g_(make_geometry(p)), f_(make_funnel(p)), opt_(o) {}
 
   /// Brackets on the interval [a, b] for k >= k_min; bisects where the sequences part.
   void brackets(double a, const Probe& pa, double b, const Probe& pb, int k_min, int depth, std::vector<Bracket>& out) const {
@@ -237,7 +258,7 @@ class Search {
     return r.left ? std::numeric_limits<double>::infinity() : std::max(r.position_error, r.speed);
   }
 
-  Probe at(double f, int k = -1) const { return probe(p_, g_, f, k < 0 ? opt_.max_bounces : k); }
+  Probe at(double f, int k = -1) const { return probe(p_, g_, f_, f, k < 0 ? opt_.max_bounces : k); }
 
  private:
   static constexpr int max_depth = 24;  // the half line's grid step / 2^24: about 3e-11 in x0/L
@@ -246,6 +267,7 @@ class Search {
   static constexpr int polish_steps = 8;             // neighbouring doubles tried on each side
   Params p_;
   Geometry g_;
+  Funnel f_;  // built once: every probe runs in it
   Options opt_;
 };
 
