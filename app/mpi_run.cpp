@@ -234,19 +234,50 @@ Message receive(int from) {
 // ---- The work: tasks, each one chunk of one point, dealt as units [first, last) of consecutive tasks ----
 
 /// The tasks of a run in the order they are dealt: chain by chain (friction_chains, the points
-/// of a chain consecutive in `points`), and within a chain chunk by chunk, its members' chunk c
-/// next to each other, so that a unit gives run_chunks the same chunk of a chain's points.
-std::vector<ChunkId> chained_tasks(const std::vector<std::vector<std::size_t>>& chains, std::int64_t chunks) {
-  std::vector<ChunkId> tasks;
-  std::size_t first = 0;
-  for (const std::vector<std::size_t>& chain : chains) {
-    for (std::int64_t c = 0; c < chunks; ++c) {
-      for (std::size_t m = 0; m < chain.size(); ++m) tasks.push_back({first + m, c});
+/// of a chain consecutive), and within a chain chunk by chunk, its members' chunk c next to each
+/// other, so that a unit gives run_chunks the same chunk of a chain's points. Task t is computed,
+/// not stored (a sweep may have 10^8 tasks).
+class ChainedTasks {
+ public:
+  ChainedTasks(const std::vector<std::vector<std::size_t>>& chains, std::int64_t chunks) {
+    std::size_t point = 0;
+    std::int64_t task = 0;
+    for (const std::vector<std::size_t>& chain : chains) {
+      spans_.push_back({point, task, chain.size()});
+      point += chain.size();
+      task += static_cast<std::int64_t>(chain.size()) * chunks;
     }
-    first += chain.size();
   }
-  return tasks;
-}
+
+  /// The chain of task t (an index into the chains).
+  std::size_t chain(std::int64_t t) const {
+    const auto after = std::upper_bound(spans_.begin(), spans_.end(), t,
+                                        [](std::int64_t x, const Span& s) { return x < s.first_task; });
+    return static_cast<std::size_t>(after - spans_.begin()) - 1;
+  }
+
+  /// Task t: (point in chain order, chunk).
+  ChunkId operator[](std::int64_t t) const {
+    const Span& s = spans_[chain(t)];
+    const std::int64_t offset = t - s.first_task, size = static_cast<std::int64_t>(s.size);
+    return {s.first_point + static_cast<std::size_t>(offset % size), offset / size};
+  }
+
+  /// Tasks [first, last).
+  std::vector<ChunkId> ids(std::int64_t first, std::int64_t last) const {
+    std::vector<ChunkId> out;
+    for (std::int64_t t = first; t < last; ++t) out.push_back((*this)[t]);
+    return out;
+  }
+
+ private:
+  struct Span {
+    std::size_t first_point;
+    std::int64_t first_task;
+    std::size_t size;
+  };
+  std::vector<Span> spans_;
+};
 
 /// A rank's answer to a unit: per point, its chunks computed (a consecutive range: a unit's
 /// tasks are consecutive); those starting at chunk 0 folded into one prefix (fold_chunk), which
@@ -532,16 +563,14 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& given, 
   std::vector<Params> points;
   order.reserve(given.size());
   points.reserve(given.size());
-  std::vector<std::size_t> chain_of;  // of the points in chain order
-  for (std::size_t c = 0; c < chains.size(); ++c) {
-    for (const std::size_t i : chains[c]) {
+  for (const std::vector<std::size_t>& chain : chains) {
+    for (const std::size_t i : chain) {
       order.push_back(i);
       points.push_back(given[i]);
-      chain_of.push_back(c);
     }
   }
   const std::int64_t chunks = chunk_count(options.samples);
-  const std::vector<ChunkId> task_list = chained_tasks(chains, chunks);
+  const ChainedTasks task_list(chains, chunks);
   const PointDone done_in_given_order = !point_done ? PointDone{} : [&](std::size_t i, const EnsembleResult& r) {
     point_done(order[i], r);
   };
@@ -569,18 +598,15 @@ std::vector<EnsembleResult> distributed_sweep(const std::vector<Params>& given, 
     const std::int64_t left = tasks - next;
     std::int64_t last = next + std::min({left, unit_max, std::max(threads, (left + 2 * ranks - 1) / (2 * ranks))});
     // A unit ends where a chunk of a chain does: its members' chunk runs as one chain.
-    const auto task = [&](std::int64_t t) { return task_list[static_cast<std::size_t>(t)]; };
-    while (last < tasks && task(last).chunk == task(last - 1).chunk &&
-           chain_of[task(last).point] == chain_of[task(last - 1).point]) {
+    while (last < tasks && task_list[last].chunk == task_list[last - 1].chunk &&
+           task_list.chain(last) == task_list.chain(last - 1)) {
       ++last;
     }
     const std::pair<std::int64_t, std::int64_t> unit{next, last};
     next = last;
     return unit;
   };
-  const auto unit_ids = [&](std::int64_t first, std::int64_t last) {
-    return std::vector<ChunkId>(task_list.begin() + first, task_list.begin() + last);
-  };
+  const auto unit_ids = [&](std::int64_t first, std::int64_t last) { return task_list.ids(first, last); };
 
   // Rank 0 computes units too, on a second thread; this thread only talks and reduces.
   std::future<std::vector<ChunkStats>> local;
