@@ -96,13 +96,16 @@ double face_depth(const Face& face, const State& s, double duration, double radi
 
 }  // namespace
 
+double audit_size(const Funnel& f) {
+  return std::fmax(f.half_width + std::fabs(f.x_release_mid), std::fmax(std::fabs(f.y_release), std::fabs(f.y_exit)));
+}
+
 FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vector<Event>& events) {
   FlightAudit audit;
   audit.trajectories = 1;
   audit.min_edge_distance = never;
   const double a = f.radius;
-  const double size = std::fmax(f.half_width + std::fabs(f.x_release_mid), std::fmax(std::fabs(f.y_release), std::fabs(f.y_exit)));
-  const double tol = audit_tolerance_for(a, size);
+  const double tol = audit_tolerance_for(a, audit_size(f));
   State s = initial;
   double t_prev = 0.0;
   bool in_contact = false;

@@ -45,6 +45,11 @@ inline double audit_tolerance_for(double radius, double size = 1.0) {
   return audit_tolerance > floor ? audit_tolerance : floor;
 }
 
+/// The funnel's size for audit_tolerance_for: the largest of its half width plus the release
+/// line's offset and the heights of its release line and exit (coordinates of that size carry
+/// its rounding, whatever the particle).
+double audit_size(const Funnel& f);
+
 /// Rebuilds every free flight of a trajectory that started in `initial` from its event log and
 /// checks it against the walls, the edges and the exit; the sustained contacts (between
 /// contact_start/contact_end and edge_contact_start/edge_contact_end) are not flights.
