@@ -364,8 +364,26 @@ class Contact {
             for (int c = 0; c < 4; ++c) acc[c] += part[c];
             return b.sigma * slip(acc, x);
           };
-          const double s_from = std::fmax(b.sigma * slip(total, x0), std::numeric_limits<double>::min());
-          x_end = refine_root(signed_slip, x0, x1, s_from, b.sigma * slip(next, x1));
+          // A phase that starts at zero slip (sliding after a slip zero, where rolling cannot
+          // hold) has a slip that grows from exactly 0: next to x0 it still evaluates to 0, and
+          // the root finder, whose first guess lands there, would stop at once. The phase then
+          // made no progress, and the next one the same, until the phase cap ended the contact
+          // as a take-off with N > 0 (found by the fuzzer: a flight then crossed the wall). The
+          // bracket starts at the first of x0 + (x1 - x0) 2^-k, k = 52 .. 1, where the slip is
+          // positive.
+          double lo = x0;
+          double s_lo = b.sigma * slip(total, x0);
+          for (int k = 52; !(s_lo > 0.0) && k >= 1; --k) {
+            const double x = x0 + (x1 - x0) * std::ldexp(1.0, -k);
+            const double sx = signed_slip(x);
+            if (sx < 0.0) break;  // it does not grow: a zero at the start
+            if (sx > 0.0) {
+              lo = x;
+              s_lo = sx;
+            }
+          }
+          const double s_from = std::fmax(s_lo, std::numeric_limits<double>::min());
+          x_end = refine_root(signed_slip, lo, x1, s_from, b.sigma * slip(next, x1));
           const Vec4 part = integrate(x0, x_end);
           for (int c = 0; c < 4; ++c) total[c] += part[c];
           why = PhaseEnd::SlipZero;

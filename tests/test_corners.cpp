@@ -75,7 +75,9 @@ TEST(Corners, ATinyParticleAfterALongFlightTouchesAnEdgeWithinItsQuarticsRoundin
   // Found by the fuzzer: a = 1.2e-5, flights of 1.1 time units up and back down onto an edge end
   // 1.9e-7 a inside the edge circle, the rounding of the flight's quartic (terms ~1, eps / a):
   // the audit allows it (docs/robustness.md), and a real flight through a corner is still caught
-  // (Corners.TheAuditFindsAFlightThroughACorner).
+  // (Corners.TheAuditFindsAFlightThroughACorner). Its bound, 16 eps (reach / a)^2 = 5.5e-5, is
+  // below the 1e-4 beyond which edge_time expands the quartic nearer the edge
+  // (Corners.ALongFallOntoATinyParticlesEdgeHitsItOnItsCircle): such runs keep their bits.
   Params p = params_with(45.0, 0.99, 1e6, -1.0);
   p.radius = 1.2e-5;
   p.gap = 2.4e-5 * (1.0 + 1e-15);
@@ -91,6 +93,64 @@ TEST(Corners, ATinyParticleAfterALongFlightTouchesAnEdgeWithinItsQuarticsRoundin
     EXPECT_TRUE(a.clean()) << x;
     EXPECT_LT(a.min_edge_distance, 1.0 - 1e-7) << x;  // the case itself: beyond the plain tolerance
   }
+}
+
+TEST(Corners, ALongFallOntoATinyParticlesEdgeHitsItOnItsCircle) {
+  // Found by the fuzzer: a = 1.1e-6 falls 10 H down a nearly vertical wall onto the other wall's
+  // edge. The quartic expanded 10 H above (terms ~400) placed the hit 1.2% of a inside the edge
+  // circle, beyond anything rounding may excuse; expanded from the edge's reach it is on the
+  // circle.
+  Params p = params_with(89.999999999998593, 0.050187575956805508, 0.0, 0.99999999999999911);
+  p.inertia = 999.99979412084622;
+  p.radius = 1.0934988146313522e-06;
+  p.gap = 2.1869976292733542e-06;
+  p.t_max = 980.74019239034192;
+  p.max_collisions = 14297;
+  p.release_height = 9.9999999999997655;
+  p.release_u = -9.9999999996630625e-07;
+  p.release_v = -9.9999999999999995e-07;
+  p.release_spin = -0.91449573298085995;
+  p.theta_right = 45.000000001539924;
+  ASSERT_FALSE(validate(p));
+  const Funnel fn = make_funnel(p);
+  EventLog log;
+  const State s = release_state(p, fn, -0.99999999999999989);
+  const Trajectory t = simulate(p, fn, s, &log);
+  EXPECT_GT(t.edge_collisions, 0);
+  const FlightAudit a = audit_flights(fn, s, log.events);
+  EXPECT_TRUE(a.clean());
+  EXPECT_GE(a.min_edge_distance, 1.0 - 1e-6);  // 0.988 before
+}
+
+TEST(Corners, ASpinningBallInASlotBarelyWiderThanItStaysBetweenTheWalls) {
+  // Found by the fuzzer: a slot 2.4e-15 H wider than the sphere below a spout's corners, e = 0,
+  // mu = 286, kappa = 66. The spin drives the ball up and over the corners, edge contact after
+  // edge contact; one of them, sliding from zero slip, hit the phase cap at once and ended as a
+  // take-off with N > 0, and the flight that followed passed behind the spout's wall and exited
+  // 4.9e-7 H (4% of a) into it (EdgeContact.SlidingFromZeroSlipMakesProgressWhenItsSlipSoon-
+  // VanishesAgain). Every flight must stay clear and the exit lie between the edges.
+  Params p = params_with(44.999999999522402, 0.0, 285.74625203932038, 0.1584059834709135);
+  p.inertia = 65.966201462147211;
+  p.radius = 1.1970410818377669e-05;
+  p.gap = 2.3940821639149426e-05;
+  p.t_max = 999.99990148935694;
+  p.max_collisions = 9152;
+  p.release_height = 0.0010000005554210458;
+  p.release_u = 2.7927242977968256e-07;
+  p.release_v = -9.9999999999999995e-07;
+  p.release_spin = -0.083539321680150019;
+  p.spout_length = 0.039240743032616369;
+  ASSERT_FALSE(validate(p));
+  const Funnel fn = make_funnel(p);
+  EventLog log;
+  const State s = release_state(p, fn, -0.99999999999999989);
+  const Trajectory t = simulate(p, fn, s, &log);
+  EXPECT_EQ(t.status, Status::Exited);
+  EXPECT_GT(t.edge_contacts, 50);
+  const FlightAudit a = audit_flights(fn, s, log.events);
+  EXPECT_TRUE(a.clean()) << a.edge_overlaps << " " << a.face_crossings << " " << a.exits_outside;
+  const double tol = audit_tolerance_for(p.radius, audit_size(fn));
+  EXPECT_LE(std::fabs(t.exit_state.r.x), 0.5 * p.gap - p.radius * (1.0 - tol)) << t.exit_state.r.x;
 }
 
 TEST(Corners, EdgeContactsAreLoggedTimedAndBooked) {

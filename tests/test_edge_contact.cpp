@@ -243,5 +243,30 @@ TEST(EdgeContact, AStartAtRestWithinRoundingTurnsAtOnce) {
   EXPECT_GT(std::atan2(r.end.r.y, r.end.r.x), psi0);  // downhill, towards psi = pi
 }
 
+TEST(EdgeContact, SlidingFromZeroSlipMakesProgressWhenItsSlipSoonVanishesAgain) {
+  // A tiny, heavy-spinning sphere (a = 1.2e-5, kappa = 66, mu = 286) rolling up over a spout's
+  // corner at psi = 0.0074: rolling cannot hold there (kappa cos / (1 + kappa) > mu N), so it slides
+  // from zero slip, and N grows until the slip vanishes again within a fraction of the phase.
+  // The slip search used to stop at the phase's start (the slip next to it evaluates to exactly
+  // 0): 64 phases that never moved, ended as a take-off with N = 0.0027 > 0, and the flight that
+  // followed crossed the wall (found by the fuzzer; docs/robustness.md). The ball must instead
+  // roll up, turn, and leave the corner on its way down where N falls to 0.
+  const Material m = material_of(285.74625203932038, 65.966201462147211, 1.1970410818377669e-05);
+  const Vec2 e{0.0, 0.0};
+  const double psi0 = 0.0074044892503045716, rate0 = 19.850488573168121;
+  const State start = on_circle(e, m.radius, psi0, rate0, rate0);  // s = a (omega - psi') = 0
+  ASSERT_GT(edge_normal_force(start, e, m.radius), 0.002);
+  const EdgeContactResult r = edge_contact(start, {e, 0.0, pi / 4}, m);
+  EXPECT_LT(r.phases, 16);
+  EXPECT_EQ(r.first_regime, Regime::Sliding);
+  EXPECT_EQ(r.exit, EdgeExit::TakeOff);
+  const double psi_end = angle_of(r.end, e);
+  const double rate_end = (-std::sin(psi_end) * r.end.v.x + std::cos(psi_end) * r.end.v.y) / m.radius;
+  EXPECT_LT(rate_end, 0.0);  // on its way down
+  EXPECT_NEAR(edge_normal_force(r.end, e, m.radius), 0.0, 1e-6 * dot(r.end.v, r.end.v) / m.radius);
+  EXPECT_GT(r.duration, 0.01);  // up to psi ~ 0.17 and back: 0.016 time units, not 7e-6
+  EXPECT_GE(r.energy_lost, 0.0);
+}
+
 }  // namespace
 }  // namespace funnel
