@@ -77,7 +77,7 @@ double edge_time(const Funnel& f, const State& s, WallPart part, const FlightSta
   // the paper's a = 0.01, 17 H for a = 1e-4), so that ordinary runs keep every bit.
   double t0 = 0.0;
   State from = s;
-  if (s.r.y > corner.top) {
+  if (s.r.y > corner.top && start.on_edge != part && start.slow_edge != part) {
     const double reach = std::hypot(s.r.x - e.x, s.r.y - e.y) + std::hypot(s.v.x, s.v.y) * t_limit + 0.5 * t_limit * t_limit;
     const double ratio = reach / f.radius;
     if (16.0 * std::numeric_limits<double>::epsilon() * ratio * ratio > 1e-4) {
