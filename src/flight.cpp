@@ -78,7 +78,9 @@ double edge_time(const Funnel& f, const State& s, WallPart part, const FlightSta
   double t0 = 0.0;
   State from = s;
   if (s.r.y > corner.top && start.on_edge != part && start.slow_edge != part) {
-    const double reach = std::hypot(s.r.x - e.x, s.r.y - e.y) + std::hypot(s.v.x, s.v.y) * t_limit + 0.5 * t_limit * t_limit;
+    // (With 1-norms, at most sqrt(2) times the 2-norms: cheap on this hot path.)
+    const double reach = std::fabs(s.r.x - e.x) + std::fabs(s.r.y - e.y) + (std::fabs(s.v.x) + std::fabs(s.v.y)) * t_limit +
+                         0.5 * t_limit * t_limit;
     const double ratio = reach / f.radius;
     if (16.0 * std::numeric_limits<double>::epsilon() * ratio * ratio > 1e-4) {
       // y(t) = top on the way down: t = v + sqrt(v^2 + 2 (y - top)), y > top.
