@@ -372,6 +372,24 @@ int compare_but_mu(const Params& a, const Params& b) {
   return std::less<const ProfileSpec*>()(a.profile.get(), b.profile.get()) ? -1 : 1;
 }
 
+/// The points' funnels and whether each ensemble is mirror symmetric (halved), as compute_chain
+/// and friction_chains take them.
+struct PointSetup {
+  std::vector<Funnel> funnels;
+  std::vector<char> mirror;
+};
+
+PointSetup setup(const std::vector<Params>& points, const EnsembleOptions& options) {
+  PointSetup out;
+  out.funnels.reserve(points.size());
+  out.mirror.reserve(points.size());
+  for (const Params& p : points) {
+    out.funnels.push_back(make_funnel(p));
+    out.mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
+  }
+  return out;
+}
+
 /// The sweep's points in the chains that compute_chain runs together: points that differ only in
 /// mu, in ascending mu, and are all mirror symmetric or all not (`mirror`: a wall profile may
 /// give one side its own mu), with the same release line, at most max_chain per chain (each point a chain of its own with a
@@ -414,14 +432,8 @@ std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>&
 }  // namespace
 
 std::vector<std::vector<std::size_t>> friction_chains(const std::vector<Params>& points, const EnsembleOptions& options) {
-  std::vector<Funnel> funnels;
-  std::vector<char> mirror;
-  funnels.reserve(points.size());
-  for (const Params& p : points) {
-    funnels.push_back(make_funnel(p));
-    mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
-  }
-  return friction_chains(points, funnels, mirror, options);
+  const PointSetup ps = setup(points, options);
+  return friction_chains(points, ps.funnels, ps.mirror, options);
 }
 
 std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const EnsembleOptions& options,
@@ -434,13 +446,10 @@ std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const Ense
   std::sort(named.begin(), named.end());
   named.erase(std::unique(named.begin(), named.end()), named.end());
   std::vector<Params> used;
-  std::vector<Funnel> funnels;
-  std::vector<char> mirror;
-  for (const std::size_t point : named) {
-    used.push_back(points[point]);
-    funnels.push_back(make_funnel(points[point]));
-    mirror.push_back(mirror_symmetric(points[point], options) ? 1 : 0);
-  }
+  for (const std::size_t point : named) used.push_back(points[point]);
+  const PointSetup ps = setup(used, options);
+  const std::vector<Funnel>& funnels = ps.funnels;
+  const std::vector<char>& mirror = ps.mirror;
   const auto local = [&named](std::size_t point) {
     return static_cast<std::size_t>(std::lower_bound(named.begin(), named.end(), point) - named.begin());
   };
@@ -457,20 +466,14 @@ std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const Ense
       const auto [it, added] = slot_of.emplace(std::pair{local(ids[i].point), ids[i].chunk}, i);
       if (!added) repeated.emplace_back(i, it->second);
     }
-    std::vector<std::size_t> chain_of(used.size());
     const std::vector<std::vector<std::size_t>> chains = friction_chains(used, funnels, mirror, options);
-    for (std::size_t c = 0; c < chains.size(); ++c) {
-      for (const std::size_t m : chains[c]) chain_of[m] = c;
-    }
-    std::map<std::pair<std::size_t, std::int64_t>, std::size_t> group_of;  // (chain, chunk) -> group
-    for (const auto& [key, slot] : slot_of) {
-      const auto [it, added] = group_of.emplace(std::pair{chain_of[key.first], key.second}, groups.size());
-      if (added) groups.push_back({key.second, {}, {}});
-    }
     for (const std::vector<std::size_t>& chain : chains) {
-      for (const std::size_t m : chain) {
+      std::map<std::int64_t, std::size_t> group_of;  // chunk -> group of this chain
+      for (const std::size_t m : chain) {  // in ascending mu
         for (auto it = slot_of.lower_bound({m, 0}); it != slot_of.end() && it->first.first == m; ++it) {
-          Group& g = groups[group_of.at({chain_of[m], it->first.second})];
+          const auto [entry, added] = group_of.emplace(it->first.second, groups.size());
+          if (added) groups.push_back({it->first.second, {}, {}});
+          Group& g = groups[entry->second];
           g.members.push_back(m);
           g.slots.push_back(it->second);
         }
@@ -499,13 +502,9 @@ std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const Ense
 
 std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const EnsembleOptions& options,
                                       const Progress& progress, const PointDone& point_done) {
-  std::vector<Funnel> funnels;
-  std::vector<char> mirror;
-  funnels.reserve(points.size());
-  for (const Params& p : points) {
-    funnels.push_back(make_funnel(p));
-    mirror.push_back(mirror_symmetric(p, options) ? 1 : 0);
-  }
+  const PointSetup ps = setup(points, options);
+  const std::vector<Funnel>& funnels = ps.funnels;
+  const std::vector<char>& mirror = ps.mirror;
   // Points that differ only in mu run as chains: a trajectory that did not slide is the next
   // point's too (compute_chain).
   const std::vector<std::vector<std::size_t>> chains = friction_chains(points, funnels, mirror, options);
