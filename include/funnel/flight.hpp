@@ -1,6 +1,7 @@
 // Free flight under gravity and detection of the next event (docs/model.md §3).
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "funnel/funnel.hpp"
@@ -70,5 +71,23 @@ double exit_time(const Funnel& f, const State& s);
 
 /// The earliest of the face, edge and exit events (faces win ties with edges at C*).
 NextEvent next_event(const Funnel& f, const State& s, const FlightStart& start);
+
+namespace detail {
+
+/// Cheap proofs that the edge quartic f(t) = |d + v t - (0, t^2/2)|^2 - a^2 of edge_time has no
+/// root in (0, T]: fl(f) > 0 there, so first_descending_root would answer `never`. False when
+/// the proof does not go through, not that there is a root.
+///
+/// clears_circle: for the quartic of d (the centre relative to the edge point) and v, with
+/// c[0] = |d|^2 - a^2 and c[1] = 2 d.v, the flight stays farther than a from the point, by a
+/// margin above the rounding of the quartic's coefficients and of its evaluation.
+bool clears_circle(Vec2 d, Vec2 v, double T, double a);
+
+/// moves_away_for_good: for a flight that starts on or outside the circle (c[0] >= 0, c[4] =
+/// 1/4) and moves away from it (c[1] > 0), (f(t) - c[0]) / t stays positive, beyond rounding,
+/// up to T (its Bernstein coefficients on [0, T]).
+bool moves_away_for_good(const std::array<double, 5>& c, double T);
+
+}  // namespace detail
 
 }  // namespace funnel
