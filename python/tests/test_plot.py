@@ -109,6 +109,21 @@ def test_read_csv_types(tmp_path):
     assert columns["n"].tolist() == [3.0, 4.0]
 
 
+def test_read_csv_converts_a_column_when_it_is_first_read(tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_text("panel,theta,bad\na,40,x\nb,45.5,1\na,50,2\n")
+    columns = plot.read_csv(path)
+    assert list(columns) == ["panel", "theta", "bad"] and len(columns) == 3
+    assert "theta" in columns and "nope" not in columns
+    with pytest.raises(KeyError):
+        columns["nope"]
+    assert columns["theta"] is columns["theta"]  # converted once
+    assert columns["bad"].dtype.kind == "U"  # one field is not a number: text
+    rows = plot._panel_rows(columns, "a")
+    assert rows["theta"].tolist() == [40.0, 50.0] and rows["bad"].tolist() == ["x", "2"]
+    assert dict(rows.items())["panel"].tolist() == ["a", "a"]
+
+
 def test_trajectory_path_follows_the_events():
     rows, geometry = bounce(55.0, 0.4, max_events=60)
     columns = {name: np.array([row[j] for row in rows]) for j, name in enumerate(EVENT_COLUMNS)}
