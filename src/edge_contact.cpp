@@ -256,6 +256,7 @@ class Contact {
     auto w_of = [&](double psi) { return b.W(psi_a, w_a, psi - psi_a); };
     auto n_of = [&](double psi) { return b.normal(psi, w_of(psi)); };
     auto roll_of = [&](double psi) { return rolling_margin(psi, n_of(psi), m_); };
+    auto slope_of = [&](double psi) { return b.accel(psi, n_of(psi)); };  // dW/dpsi = 2 psi''
 
     // The closed-form events (take-off, turning point, loss of rolling): sample the range
     // towards the arc's end and refine the first bracket of each function.
@@ -289,6 +290,8 @@ class Contact {
     PhaseEnd why = PhaseEnd::Limit;
     double psi_b = limit;
     double prev = psi_a;
+    // W and its rise along the motion at prev (for the dips of W between samples, below).
+    double w_prev = w_a, rise_prev = dir_ * b.accel(psi_a, b.normal(psi_a, w_a));
     for (int j = 0; j < samples && why == PhaseEnd::Limit; ++j) {
       const double psi = j == samples - 1 ? limit : psi_a + (limit - psi_a) * fractions[j];
       // A fraction too small to move psi (or two equal fractions) brackets nothing (found by
@@ -308,6 +311,28 @@ class Contact {
       check(n_of, PhaseEnd::TakeOff);
       check(w_of, PhaseEnd::Turning);
       if (b.regime == Regime::Rolling) check(roll_of, PhaseEnd::SlipOnset);
+      // W may dip to zero and rise again between two samples where it is positive: a turning
+      // point the signs at the samples miss (found by the fuzzer: sliding up an edge with
+      // mu = 286, W fell below 0 over 0.1% of the range between samples 0.2% apart, and the
+      // quadrature of dt = dpsi / sqrt(W) then ran to its budget through the region the particle
+      // cannot reach). Where W decreases along the motion at prev and increases at psi, its least
+      // value between them is where psi'' = 0; a turning point lies before it if W <= 0 there.
+      const double w_psi = w_of(psi);
+      const double rise_psi = dir_ * b.accel(psi, b.normal(psi, w_psi));
+      if (w_prev > 0.0 && w_psi > 0.0 && rise_prev < 0.0 && rise_psi > 0.0) {
+        auto falling = [&](double q) { return -dir_ * slope_of(q); };
+        const double least = refine_between(falling, prev, psi, -rise_prev, -rise_psi);
+        const double w_least = w_of(least);
+        if (w_least <= 0.0) {
+          const double root = refine_between(w_of, prev, least, w_prev, w_least);
+          if (why == PhaseEnd::Limit || (root - psi_b) * dir_ < 0.0) {
+            psi_b = root;
+            why = PhaseEnd::Turning;
+          }
+        }
+      }
+      w_prev = w_psi;
+      rise_prev = rise_psi;
       prev = psi;
     }
     const double w_b = why == PhaseEnd::Turning ? 0.0 : std::fmax(w_of(psi_b), 0.0);

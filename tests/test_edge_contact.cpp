@@ -268,5 +268,42 @@ TEST(EdgeContact, SlidingFromZeroSlipMakesProgressWhenItsSlipSoonVanishesAgain) 
   EXPECT_GE(r.energy_lost, 0.0);
 }
 
+TEST(EdgeContact, AnInteriorDipOfWToZeroIsATurningPoint) {
+  // The same sphere sliding up a spout's corner from psi = 0.00165 with psi' = 10.9 and back
+  // spin: W = psi'^2 falls to 0 at psi = 0.00341 and would rise again (the sliding solution's
+  // exponential, k = 2 mu = 571), so W is negative only over 0.1% of the arc, between two event
+  // samples where it is positive. The sphere must turn there and come back down; missed, the
+  // contact ran on to the arc's upper end through the region it cannot reach, and the quadrature
+  // of dt = dpsi / sqrt(W) across it made a contact of 149 time units, and cost 1.4 s (found by
+  // the fuzzer; docs/robustness.md, finding 20).
+  const Material m = material_of(285.74625203932038, 65.966201462147211, 1.1970410818377669e-05);
+  const Vec2 e{0.0, 0.0};
+  const double psi0 = 0.0016531807029965223, rate0 = std::sqrt(118.88965296395359);
+  const State start = on_circle(e, m.radius, psi0, rate0, 16.435234453010558);  // slip > 0
+  const EdgeContactResult r = edge_contact(start, {e, 0.0, 0.77014399407632261}, m);
+  EXPECT_NE(r.exit, EdgeExit::High);
+  EXPECT_LT(angle_of(r.end, e), 0.0035);
+  EXPECT_LT(r.duration, 0.01);
+  EXPECT_GE(r.energy_lost, 0.0);
+  EXPECT_NEAR(r.energy_lost, energy(start, m.kappa, m.radius) - energy(r.end, m.kappa, m.radius), 1e-12);
+  // It turns where W vanishes: the closed form from the start reaches W = 0 near psi = 0.0034;
+  // the brute-force integration turns within 1e-6 rad of the same angle.
+  double psi = psi0, rate = rate0, omega = 16.435234453010558, top = psi0;
+  const double dt = 1e-8;
+  for (int step = 0; step < 100000 && rate > 0.0; ++step) {
+    // Sliding with slip > 0: F = -mu N, psi'' = (-cos psi - F) / a (test only, explicit Euler
+    // with a fine step; the turn comes long before the slip can vanish).
+    const double n = std::sin(psi) - m.radius * rate * rate;
+    const double acc = (-std::cos(psi) + m.mu * n) / m.radius;
+    psi += rate * dt;
+    rate += acc * dt;
+    omega += -m.mu * n / (m.kappa * m.radius) * dt;
+    top = std::max(top, psi);
+  }
+  EXPECT_GT(top, 0.0033);
+  EXPECT_LT(top, 0.0036);
+  EXPECT_GT(omega, rate);  // still sliding with slip > 0 when it turned
+}
+
 }  // namespace
 }  // namespace funnel
