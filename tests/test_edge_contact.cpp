@@ -35,7 +35,8 @@ struct Reference {
   bool took_off = false;
 };
 
-Reference integrate(double psi, double rate, double omega, double psi_high, const Material& m, double dt) {
+Reference integrate(double psi, double rate, double omega, double psi_high, const Material& m, double dt,
+                    double psi_low = -1e300) {
   const double a = m.radius, k = m.kappa, mu = m.mu;
   Reference r{psi, rate, omega};
   int regime = 0;  // 0 rolling, +-1 sliding with that slip sign
@@ -85,7 +86,7 @@ Reference integrate(double psi, double rate, double omega, double psi_high, cons
     r.psi = next[0];
     r.rate = next[1];
     r.omega = next[2];
-    if (r.psi >= psi_high) return r;
+    if (r.psi >= psi_high || r.psi <= psi_low) return r;
     if (regime != 0 && s1 * regime <= 0.0) {
       r.omega = r.rate;  // slip reached zero
       regime = pick(r.psi, r.rate, r.omega);
@@ -303,6 +304,28 @@ TEST(EdgeContact, AnInteriorDipOfWToZeroIsATurningPoint) {
   EXPECT_GT(top, 0.0033);
   EXPECT_LT(top, 0.0036);
   EXPECT_GT(omega, rate);  // still sliding with slip > 0 when it turned
+}
+
+TEST(EdgeContact, ADipOfWToZeroBetweenSamplesTurnsAsTheBruteForceIntegrationDoes) {
+  // Ordinary values (a = 0.01, mu = 4.9, kappa = 15: one of 9 starts among 200 000 random ones
+  // whose result the fix changed): sliding up from psi = 0.112, W falls to 0 between two event
+  // samples where it is positive. The sphere turns there, comes back down and takes off, as the
+  // brute-force integration says; missed, the contact lasted 40 524 time units.
+  const Material m = material_of(4.8569656679631814, 15.438441907540058, 0.010063047916674903);
+  const Vec2 e{0.0, 0.0};
+  const double psi0 = 0.1117783215746268, rate0 = 2.2984839695472457, omega0 = 2.3195162265352023;
+  const double psi_high = 1.9565243681216351;
+  const EdgeContactResult r = edge_contact(on_circle(e, m.radius, psi0, rate0, omega0), {e, 0.0, psi_high}, m);
+  const Reference ref = integrate(psi0, rate0, omega0, psi_high, m, 1e-7, 0.0);
+  EXPECT_EQ(r.exit, EdgeExit::TakeOff);
+  ASSERT_TRUE(ref.took_off);
+  const double psi_end = angle_of(r.end, e);
+  EXPECT_NEAR(psi_end, ref.psi, 1e-6);
+  EXPECT_NEAR(r.duration, ref.time, 1e-6 * ref.time + 2e-7);
+  const double rate_end = (-std::sin(psi_end) * r.end.v.x + std::cos(psi_end) * r.end.v.y) / m.radius;
+  EXPECT_NEAR(rate_end, ref.rate, 1e-4 * std::fabs(ref.rate));
+  EXPECT_NEAR(r.end.omega, ref.omega, 1e-4 * std::fabs(ref.omega));
+  EXPECT_NEAR(r.energy_lost, ref.work, 1e-4 * ref.work);
 }
 
 }  // namespace
