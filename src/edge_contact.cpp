@@ -408,14 +408,20 @@ class Contact {
           // made no progress, and the next one the same, until the phase cap ended the contact
           // as a take-off with N > 0 (found by the fuzzer: a flight then crossed the wall). The
           // bracket starts at the first of x0 + (x1 - x0) 2^-k, k = 52 .. 1, where the slip is
-          // positive.
+          // positive beyond the rounding of a (omega - psi') (16 eps a (|omega| + |psi'|)):
+          // closer to x0 its value is that rounding, of either sign, and a negative one made
+          // the search give up there (found by comparing with a brute-force integration: a
+          // sphere rolling up an edge at psi' = 94 lost its grip, slid with a slip that grew to
+          // 3e-5 of a psi' and vanished again, and ended after 64 empty phases as a take-off
+          // with N = 0.03 > 0; docs/robustness.md, finding 21).
+          const double noise = 16.0 * std::numeric_limits<double>::epsilon() * a_ * (std::fabs(omega_a) + std::sqrt(w_a));
           double lo = x0;
           double s_lo = b.sigma * slip(total, x0);
-          for (int k = 52; !(s_lo > 0.0) && k >= 1; --k) {
+          for (int k = 52; !(s_lo > noise) && k >= 1; --k) {
             const double x = x0 + (x1 - x0) * std::ldexp(1.0, -k);
             const double sx = signed_slip(x);
-            if (sx < 0.0) break;  // it does not grow: a zero at the start
-            if (sx > 0.0) {
+            if (sx < -noise) break;  // it does not grow: a zero at the start
+            if (sx > noise) {
               lo = x;
               s_lo = sx;
             }
