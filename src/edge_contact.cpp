@@ -394,14 +394,38 @@ class Contact {
         const Vec4 piece = integrate(x0, x1);
         Vec4 next = total;
         for (int c = 0; c < 4; ++c) next[c] += piece[c];
-        if (b.regime == Regime::Sliding && b.sigma * slip(next, x1) <= 0.0) {
-          // The slip vanishes in this piece: find where, integrating from the piece's start.
-          auto signed_slip = [&](double x) {
-            Vec4 acc = total;
-            const Vec4 part = integrate(x0, x);
-            for (int c = 0; c < 4; ++c) acc[c] += part[c];
-            return b.sigma * slip(acc, x);
+        // The slip (times sigma) at x in this piece, integrating from the piece's start.
+        auto signed_slip = [&](double x) {
+          Vec4 acc = total;
+          const Vec4 part = integrate(x0, x);
+          for (int c = 0; c < 4; ++c) acc[c] += part[c];
+          return b.sigma * slip(acc, x);
+        };
+        double s_end = b.regime == Regime::Sliding ? b.sigma * slip(next, x1) : 1.0;
+        double x_dip = x1;
+        if (b.regime == Regime::Sliding && s_end > 0.0) {
+          // The slip may vanish and come back between the piece's ends, positive at both (found
+          // by comparing with a brute-force integration: a slip that reversed and vanished again
+          // within one piece was slid through). sigma s' = sigma cos psi - mu N (1 + kappa) /
+          // kappa is closed-form: where sigma s falls at x0 and rises at x1, its least value is
+          // where s' = 0, and the slip's first zero lies before it if it is <= 0 there.
+          auto rise = [&](double x) {
+            const double psi = psi_at(x);
+            const double n = b.normal(psi, std::fmax(w_at(x), 0.0));
+            return b.sigma * std::cos(psi) - m_.mu * n * (1.0 + m_.kappa) / m_.kappa;
           };
+          const double r0 = rise(x0), r1 = rise(x1);
+          if (r0 < 0.0 && r1 > 0.0 && b.sigma * slip(total, x0) > 0.0) {
+            const double x_least = refine_root([&](double x) { return -rise(x); }, x0, x1, -r0, -r1);
+            const double s_least = signed_slip(x_least);
+            if (s_least <= 0.0) {
+              s_end = s_least;
+              x_dip = x_least;
+            }
+          }
+        }
+        if (s_end <= 0.0) {
+          // The slip vanishes in this piece (before x_dip): find where.
           // A phase that starts at zero slip (sliding after a slip zero, where rolling cannot
           // hold) has a slip that grows from exactly 0: next to x0 it still evaluates to 0, and
           // the root finder, whose first guess lands there, would stop at once. The phase then
@@ -427,7 +451,7 @@ class Contact {
             }
           }
           const double s_from = std::fmax(s_lo, std::numeric_limits<double>::min());
-          x_end = refine_root(signed_slip, lo, x1, s_from, b.sigma * slip(next, x1));
+          x_end = refine_root(signed_slip, lo, x_dip, s_from, s_end);
           const Vec4 part = integrate(x0, x_end);
           for (int c = 0; c < 4; ++c) total[c] += part[c];
           why = PhaseEnd::SlipZero;
