@@ -97,9 +97,11 @@ TEST_F(Mpi, SweepEnsembleAndPaperGiveTheBytesOfOneProcessForAnyRanksAndThreads) 
       EXPECT_EQ(r.output.find(summary), r.output.rfind(summary)) << r.output;
       EXPECT_EQ(read("mpi.csv"), read("one.csv")) << np << " ranks, " << threads << " threads";
     }
-    ASSERT_EQ(run(line + path("mpi_line.json") + " --threads 1", mpirun(np)).code, 0);
+    const Result l = run(line + path("mpi_line.json") + " --threads 1", mpirun(np));
+    ASSERT_EQ(l.code, 0) << l.output;
     EXPECT_EQ(without_provenance(read("mpi_line.json")), without_provenance(read("one_line.json"))) << np;
-    ASSERT_EQ(run(random + path("mpi_random.csv") + " --format csv --threads 1", mpirun(np)).code, 0);
+    const Result u = run(random + path("mpi_random.csv") + " --format csv --threads 1", mpirun(np));
+    ASSERT_EQ(u.code, 0) << u.output;
     EXPECT_EQ(read("mpi_random.csv"), read("one_random.csv")) << np;
     const Result p = run(paper + path("mpi_paper" + k) + " --threads 1", mpirun(np));
     ASSERT_EQ(p.code, 0) << p.output;
