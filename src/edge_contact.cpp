@@ -289,32 +289,16 @@ class Contact {
     PhaseEnd why = PhaseEnd::Limit;
     double psi_b = limit;
     double prev = psi_a;
-    // W and its rate of change along the motion at a sample (for its dips between samples,
-    // below).
-    struct Dip {
-      double w, w_rise;
-    };
-    auto dip_at = [&](double psi) {
-      const double w = w_of(psi);
-      return Dip{w, dir_ * 2.0 * b.accel(psi, b.normal(psi, w))};  // dW/dpsi = 2 psi''
-    };
-    // A dip of f to <= 0 between samples from and to where f > 0, falling along the motion at
-    // from and rising at to: its least value is refined, and f's root before it is the event
-    // when f <= 0 there (if it comes before the phase's end found so far).
-    auto dip_between = [&](const auto& f, const auto& rise, double from, double to, double f_from, double f_to,
-                           double rise_from, double rise_to, PhaseEnd kind) {
-      if (!(f_from > 0.0 && f_to > 0.0 && rise_from < 0.0 && rise_to > 0.0)) return;
-      auto falling = [&](double q) { return -rise(q); };
-      const double least = refine_between(falling, from, to, -rise_from, -rise_to);
-      const double f_least = f(least);
-      if (!(f_least <= 0.0)) return;
-      const double root = refine_between(f, from, least, f_from, f_least);
+    // Ends the phase at `root` with `kind`, if that comes before the end found so far.
+    auto take = [&](double root, PhaseEnd kind) {
       if (why == PhaseEnd::Limit || (root - psi_b) * dir_ < 0.0) {
         psi_b = root;
         why = kind;
       }
     };
-    Dip last = dip_at(psi_a);
+    // dW/dpsi = 2 psi'' along the motion, at psi where W = w (for W's dips between samples).
+    auto w_rise = [&](double psi, double w) { return dir_ * 2.0 * b.accel(psi, b.normal(psi, w)); };
+    double w_prev = w_of(psi_a), rise_prev = w_rise(psi_a, w_prev);
     for (int j = 0; j < samples && why == PhaseEnd::Limit; ++j) {
       const double psi = j == samples - 1 ? limit : psi_a + (limit - psi_a) * fractions[j];
       // A fraction too small to move psi (or two equal fractions) brackets nothing (found by
@@ -325,11 +309,7 @@ class Contact {
         if (!(f_to <= 0.0)) return;
         // Positive at prev: at the phase's start by construction, at later samples by the scan.
         const double f_from = std::fmax(f(prev), std::numeric_limits<double>::min());
-        const double root = refine_between(f, prev, psi, f_from, f_to);
-        if (why == PhaseEnd::Limit || (root - psi_b) * dir_ < 0.0) {
-          psi_b = root;
-          why = kind;
-        }
+        take(refine_between(f, prev, psi, f_from, f_to), kind);
       };
       check(n_of, PhaseEnd::TakeOff);
       check(w_of, PhaseEnd::Turning);
@@ -342,10 +322,15 @@ class Contact {
       // between them is where W' = 2 psi'' = 0; a turning point lies before it if W <= 0 there.
       // (N = sin psi - a W could dip to 0 between samples in the same way where W peaks: none
       // was seen, in the fuzzer's runs or among 200 000 random starts, so it is not sought.)
-      const Dip now = dip_at(psi);
-      dip_between(w_of, [&](double q) { return dip_at(q).w_rise; }, prev, psi, last.w, now.w, last.w_rise, now.w_rise,
-                  PhaseEnd::Turning);
-      last = now;
+      const double w_psi = w_of(psi), rise_psi = w_rise(psi, w_psi);
+      if (w_prev > 0.0 && w_psi > 0.0 && rise_prev < 0.0 && rise_psi > 0.0) {
+        auto falling = [&](double q) { return -w_rise(q, w_of(q)); };
+        const double least = refine_between(falling, prev, psi, -rise_prev, -rise_psi);
+        const double w_least = w_of(least);
+        if (w_least <= 0.0) take(refine_between(w_of, prev, least, w_prev, w_least), PhaseEnd::Turning);
+      }
+      w_prev = w_psi;
+      rise_prev = rise_psi;
       prev = psi;
     }
     const double w_b = why == PhaseEnd::Turning ? 0.0 : std::fmax(w_of(psi_b), 0.0);
@@ -401,6 +386,7 @@ class Contact {
           for (int c = 0; c < 4; ++c) acc[c] += part[c];
           return b.sigma * slip(acc, x);
         };
+        const double s_start = b.sigma * slip(total, x0);
         double s_end = b.regime == Regime::Sliding ? b.sigma * slip(next, x1) : 1.0;
         double x_dip = x1;
         if (b.regime == Regime::Sliding && s_end > 0.0) {
@@ -415,7 +401,7 @@ class Contact {
             return b.sigma * std::cos(psi) - m_.mu * n * (1.0 + m_.kappa) / m_.kappa;
           };
           const double r0 = rise(x0), r1 = rise(x1);
-          if (r0 < 0.0 && r1 > 0.0 && b.sigma * slip(total, x0) > 0.0) {
+          if (r0 < 0.0 && r1 > 0.0 && s_start > 0.0) {
             const double x_least = refine_root([&](double x) { return -rise(x); }, x0, x1, -r0, -r1);
             const double s_least = signed_slip(x_least);
             if (s_least <= 0.0) {
@@ -440,7 +426,7 @@ class Contact {
           // with N = 0.03 > 0; docs/robustness.md, finding 21).
           const double noise = 16.0 * std::numeric_limits<double>::epsilon() * a_ * (std::fabs(omega_a) + std::sqrt(w_a));
           double lo = x0;
-          double s_lo = b.sigma * slip(total, x0);
+          double s_lo = s_start;
           for (int k = 52; !(s_lo > noise) && k >= 1; --k) {
             const double x = x0 + (x1 - x0) * std::ldexp(1.0, -k);
             const double sx = signed_slip(x);
