@@ -1,5 +1,6 @@
 // Google Benchmark: the collision law, one event search, one trajectory, the reference ensemble,
-// the batched path per SIMD path, the edge quartic's root and a sweep over friction.
+// the batched path per SIMD path, the edge quartic's root, a sweep over friction and the 3D cone's
+// trajectories side by side.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -10,6 +11,8 @@
 #include <vector>
 
 #include "funnel/engine.hpp"
+#include "funnel/engine3d.hpp"
+#include "funnel/ensemble3d.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/flight.hpp"
 #include "funnel/roots.hpp"
@@ -184,6 +187,42 @@ void BM_FrictionSweep(benchmark::State& st) {
       benchmark::Counter(static_cast<double>(computed) / static_cast<double>(st.iterations()));
 }
 BENCHMARK(BM_FrictionSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// The 3D cone (theta = 60, e = 0.99, mu = 1, sigma = 0.1, t_max = 300, as in the fig3d page):
+/// 256 of its 4000 balls (every 16th). Argument 0: one at a time (simulate_3d, the face times'
+/// fixed points one after the other); 1 + i: side by side (simulate_3d_many, their fixed points
+/// together) on the path simd_paths()[i], 1 the scalar engine. The same trajectories.
+void BM_Cone3d(benchmark::State& st) {
+  const std::vector<std::string> paths = simd_paths();
+  const auto arg = static_cast<std::size_t>(st.range(0));
+  if (arg > paths.size()) {
+    st.SkipWithError("this CPU does not run this path");
+    return;
+  }
+  const std::string saved = simd_path();
+  if (arg > 0) set_simd_path(paths[arg - 1]);
+  st.SetLabel(arg == 0 ? "one at a time" : "side by side, " + paths[arg - 1]);
+  Params p = reference();
+  p.t_max = 300.0;
+  const Cone c = make_cone(p);
+  Ensemble3Options o;
+  o.velocity_sd = 0.1;
+  std::vector<State3> initial;
+  for (std::int64_t k = 0; k < o.samples; k += 16) initial.push_back(ensemble_release_3d(p, c, o, k));
+  std::vector<Trajectory3> out(initial.size());
+  std::int64_t collisions = 0;
+  for (auto _ : st) {
+    if (arg == 0) {
+      for (std::size_t k = 0; k < initial.size(); ++k) out[k] = simulate_3d(p, c, initial[k]);
+    } else {
+      simulate_3d_many(p, c, initial, out);
+    }
+    for (const Trajectory3& t : out) collisions += t.collisions;
+  }
+  set_simd_path(saved);
+  st.counters["collisions_per_second"] = benchmark::Counter(static_cast<double>(collisions), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Cone3d)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "funnel/roots.hpp"
 #include "funnel/walton3d.hpp"
@@ -39,7 +40,62 @@ class Run3 {
   }
 
   Trajectory3 finish() {
-    loop();
+    while (!done_) step(cone_face_time(cone_, state_, start_));
+    return result();
+  }
+
+  /// True once the run has ended (result() is then its trajectory).
+  bool done() const { return done_; }
+
+  /// The flight that the next step() starts: cone_face_time(cone, state(), start()) is its face time.
+  const State3& state() const { return state_; }
+  const FlightStart3& start() const { return start_; }
+
+  /// One turn of the event loop: the flight from state() to its next event, whose face time
+  /// face_time (cone_face_time of state() and start()) is given, and that event.
+  void step(double face_time) {
+    const NextEvent3 ev = next_event(cone_, state_, start_, face_time);
+    if (!(time_ + ev.dt <= params_.t_max)) {  // also catches dt = never
+      fly(std::fmin(params_.t_max - time_, 1e300));
+      end(Status::Trapped, params_.t_max);
+      return;
+    }
+    const double before = time_;
+    fly(ev.dt);
+    time_ += ev.dt;
+    stalled_ = time_ > before ? 0 : stalled_ + 1;
+    if (stalled_ > max_stalled_events) {
+      out_.stalled = !g_.closed;
+      end(g_.closed ? Status::Rest : Status::Trapped, time_);
+      return;
+    }
+    switch (ev.kind) {
+      case EventKind::Exit:
+        state_.r.y = g_.y_bottom;
+        exit_here();
+        return;
+      case EventKind::Face: start_ = face_collision(); break;
+      case EventKind::Edge: start_ = rim_collision(); break;
+      default: break;
+    }
+    if (done_) return;
+    if (sink_ != nullptr && sink_->finished()) {
+      out_.stopped = true;
+      end(Status::Trapped, time_);
+      return;
+    }
+    if (out_.collisions >= params_.max_collisions) {
+      end(Status::Trapped, time_);
+      return;
+    }
+    if (g_.closed && energy(state_, mat_.kappa, mat_.radius) < params_.eps_rest) {
+      end(Status::Rest, time_);
+      return;
+    }
+  }
+
+  /// The trajectory of a run that has ended.
+  Trajectory3 result() {
     out_.final_state = state_;
     out_.energy_loss = e0_ - energy(state_, mat_.kappa, mat_.radius);
     out_.orbits = swept_ / (2.0 * std::numbers::pi);
@@ -47,51 +103,6 @@ class Run3 {
   }
 
  private:
-  void loop() {
-    FlightStart3 start;
-    int stalled = 0;
-    for (;;) {
-      const NextEvent3 ev = next_event(cone_, state_, start);
-      if (!(time_ + ev.dt <= params_.t_max)) {  // also catches dt = never
-        fly(std::fmin(params_.t_max - time_, 1e300));
-        end(Status::Trapped, params_.t_max);
-        return;
-      }
-      const double before = time_;
-      fly(ev.dt);
-      time_ += ev.dt;
-      stalled = time_ > before ? 0 : stalled + 1;
-      if (stalled > max_stalled_events) {
-        out_.stalled = !g_.closed;
-        end(g_.closed ? Status::Rest : Status::Trapped, time_);
-        return;
-      }
-      switch (ev.kind) {
-        case EventKind::Exit:
-          state_.r.y = g_.y_bottom;
-          exit_here();
-          return;
-        case EventKind::Face: start = face_collision(); break;
-        case EventKind::Edge: start = rim_collision(); break;
-        default: break;
-      }
-      if (done_) return;
-      if (sink_ != nullptr && sink_->finished()) {
-        out_.stopped = true;
-        end(Status::Trapped, time_);
-        return;
-      }
-      if (out_.collisions >= params_.max_collisions) {
-        end(Status::Trapped, time_);
-        return;
-      }
-      if (g_.closed && energy(state_, mat_.kappa, mat_.radius) < params_.eps_rest) {
-        end(Status::Rest, time_);
-        return;
-      }
-    }
-  }
-
   /// A free flight of duration dt, with the azimuth it sweeps.
   void fly(double dt) {
     const State3 next = advance(state_, dt);
@@ -360,6 +371,8 @@ class Run3 {
   const CollisionConstants law_;
   EventSink3* sink_;
   State3 state_;
+  FlightStart3 start_;
+  int stalled_ = 0;  ///< events in a row without time advancing
   Contact3Options opt_;
   double time_ = 0.0;
   double e0_ = 0.0;
@@ -373,6 +386,51 @@ class Run3 {
 
 Trajectory3 simulate_3d(const Params& params, const Cone& cone, const State3& initial, EventSink3* sink) {
   return Run3(params, cone, initial, sink).finish();
+}
+
+void simulate_3d_many(const Params& params, const Cone& cone, std::span<const State3> initial,
+                      std::span<Trajectory3> out, const std::atomic<bool>* cancel) {
+  // Up to max_face_lanes runs at once, each a Run3 as simulate_3d's; at every turn the face times
+  // of all their flights are found together (cone_face_times, the same bits), then each run
+  // takes its step. A run that ends hands its lane to the next trajectory.
+  constexpr std::size_t lanes = max_face_lanes;
+  std::array<std::optional<Run3>, lanes> run;
+  std::array<std::size_t, lanes> index{};
+  std::array<State3, lanes> states;
+  std::array<FlightStart3, lanes> starts;
+  std::array<double, lanes> face_times{};
+  std::size_t next = 0;
+  const auto stopped = [&] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
+  const auto launch = [&](std::size_t lane) {
+    run[lane].reset();
+    if (next < initial.size() && !stopped()) {
+      index[lane] = next;
+      run[lane].emplace(params, cone, initial[next], nullptr);
+      ++next;
+    }
+  };
+  for (std::size_t lane = 0; lane < lanes; ++lane) launch(lane);
+  for (;;) {
+    std::size_t n = 0;
+    for (std::size_t lane = 0; lane < lanes; ++lane) {
+      if (!run[lane]) continue;
+      states[n] = run[lane]->state();
+      starts[n] = run[lane]->start();
+      ++n;
+    }
+    if (n == 0) return;
+    cone_face_times(cone, {states.data(), n}, {starts.data(), n}, {face_times.data(), n});
+    std::size_t k = 0;
+    for (std::size_t lane = 0; lane < lanes; ++lane) {
+      if (!run[lane]) continue;
+      Run3& r = *run[lane];
+      r.step(face_times[k++]);
+      if (r.done()) {
+        out[index[lane]] = r.result();
+        launch(lane);
+      }
+    }
+  }
 }
 
 State3 release_state_3d(const Params& params, const Cone& cone, double fraction) {

@@ -15,6 +15,8 @@ namespace {
 /// Work units per ensemble, as in 2D: the partition depends on N only, never on the threads.
 constexpr std::int64_t max_chunks = 256;
 constexpr std::int64_t min_chunk = 16;
+/// Trajectories a task runs side by side (simulate_3d_many keeps its lanes busy over them).
+constexpr std::int64_t balls_per_task = 128;
 
 struct BlockStats3 {
   std::array<Accumulator, observable_count_3d> acc;
@@ -110,8 +112,12 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
                                           const PointDone3& point_done) {
   const std::int64_t n = options.samples;
   const std::int64_t blocks_per_point = std::min(max_chunks, (n + min_chunk - 1) / min_chunk);
+  // A task runs consecutive blocks of a point, about balls_per_task trajectories side by side
+  // (simulate_3d_many); each block keeps its own statistics, reduced in index order as before.
+  const std::int64_t tasks_per_point = std::clamp<std::int64_t>((n + balls_per_task - 1) / balls_per_task, 1, blocks_per_point);
   const auto n_points = static_cast<std::int64_t>(points.size());
-  const std::int64_t n_tasks = n_points * blocks_per_point;
+  const std::int64_t n_tasks = n_points * tasks_per_point;
+  const std::int64_t n_blocks = n_points * blocks_per_point;
   std::vector<Cone> cones;
   cones.reserve(points.size());
   for (const Params& p : points) cones.push_back(make_cone(p));
@@ -119,31 +125,39 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
   if (options.keep_samples) {
     for (auto& r : results) r.per_sample.resize(static_cast<std::size_t>(n));
   }
-  std::vector<BlockStats3> blocks(static_cast<std::size_t>(n_tasks));
-  std::vector<std::int64_t> pending(points.size(), blocks_per_point);
+  std::vector<BlockStats3> blocks(static_cast<std::size_t>(n_blocks));
+  std::vector<std::int64_t> pending(points.size(), tasks_per_point);
   std::int64_t finished = 0;
+  const auto block_begin = [&](std::int64_t block) { return block * n / blocks_per_point; };
 
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t task = 0; task < n_tasks; ++task) {
-    const std::int64_t point = task / blocks_per_point;
-    const std::int64_t chunk = task % blocks_per_point;
-    const std::int64_t first = chunk * n / blocks_per_point;
-    const std::int64_t last = (chunk + 1) * n / blocks_per_point;
+    const std::int64_t point = task / tasks_per_point;
+    const std::int64_t part = task % tasks_per_point;
+    const std::int64_t first_block = part * blocks_per_point / tasks_per_point;
+    const std::int64_t last_block = (part + 1) * blocks_per_point / tasks_per_point;
+    const std::int64_t first = block_begin(first_block);
+    const std::int64_t last = block_begin(last_block);
     const Params& params = points[static_cast<std::size_t>(point)];
     const Cone& cone = cones[static_cast<std::size_t>(point)];
-    BlockStats3& stats = blocks[static_cast<std::size_t>(task)];
     Ensemble3Options point_options = options;
     point_options.velocity_sd = velocity_sds[static_cast<std::size_t>(point)];
-    for (std::int64_t k = first; k < last; ++k) {
-      // A 3D trajectory may take milliseconds: once cancelled (seen when some block ends), the
-      // blocks under way stop at their next trajectory.
-      if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) break;
-      const State3 start = ensemble_release_3d(params, cone, point_options, k);
-      const Trajectory3 t = simulate_3d(params, cone, start);
-      stats.add(t);
-      if (options.keep_samples) {
-        results[static_cast<std::size_t>(point)].per_sample[static_cast<std::size_t>(k)] = {
-            release_fraction(options.dist, k, n), start.v, t};
+    std::vector<State3> starts;
+    starts.reserve(static_cast<std::size_t>(last - first));
+    for (std::int64_t k = first; k < last; ++k) starts.push_back(ensemble_release_3d(params, cone, point_options, k));
+    std::vector<Trajectory3> runs(starts.size());
+    // A 3D trajectory may take milliseconds: once cancelled, no further trajectory starts.
+    simulate_3d_many(params, cone, starts, runs, options.cancel);
+    const bool cancelled = options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed);
+    for (std::int64_t block = first_block; block < last_block && !cancelled; ++block) {
+      BlockStats3& stats = blocks[static_cast<std::size_t>(point * blocks_per_point + block)];
+      for (std::int64_t k = block_begin(block); k < block_begin(block + 1); ++k) {
+        const auto i = static_cast<std::size_t>(k - first);
+        stats.add(runs[i]);
+        if (options.keep_samples) {
+          results[static_cast<std::size_t>(point)].per_sample[static_cast<std::size_t>(k)] = {
+              release_fraction(options.dist, k, n), starts[i].v, runs[i]};
+        }
       }
     }
 #pragma omp critical(funnel_sweep_3d)

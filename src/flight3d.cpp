@@ -5,8 +5,10 @@
 #include <array>
 #include <cmath>
 
+#include "batch3d.hpp"
 #include "funnel/poly.hpp"
 #include "funnel/roots.hpp"
+#include "funnel/simd.hpp"
 
 namespace funnel {
 
@@ -146,37 +148,145 @@ Poly rim_octic(const Cone& c, const State3& s) {
 
 }  // namespace
 
-double cone_face_time(const Cone& c, const State3& s, const FlightStart3& start) {
-  if (start.skip_face) return never;  // tangent at C*: a zero-time hit otherwise (Zeno)
-  const Geometry& g = c.g;
-  // The distance from the cone is the minimum over the face's generators (half-planes b) of the
-  // distance from the generator's line, each a concave quadratic in t with the 2D face roots.
-  // Each is >= the cone's, so each root is >= the cone's; the root for the half-plane of the
-  // previous root's position is the next, smaller iterate (a Newton-like step: the two functions
-  // touch to first order there). In a meridian plane the first or second iterate is exact.
-  Vec3 b = meridian_direction(s.r);
-  const Vec3 b_start = b;
+namespace {
+
+/// One flight's fixed point for the face time (cone_face_time): the half-plane of the current
+/// iterate, the one the flight starts in, the best time so far and the iterations done.
+struct FaceIterate {
+  Vec3 b, b_start;
   double t_best = never;
-  for (int it = 0; it < max_face_iterations; ++it) {
-    const Vec3 n = cone_normal(c, b);
-    const double p = dot(s.v, n);
-    double delta0 = start.on_face && b.x == b_start.x && b.z == b_start.z ? 0.0 : generator_distance(c, b, s.r);
-    // Up the face from C* (anywhere, if closed) a negative distance is rounding: the centre is on
-    // the cone (as in 2D, measured along this generator).
-    if (delta0 < 0.0 && (g.closed || up_face(c, b.x * s.r.x + b.z * s.r.z, s.r.y) >= 0.0)) delta0 = 0.0;
-    const double t = line_arrival_time(delta0, p, g.cos_t);
-    if (t == never) break;  // this generator is never reached, so neither is the cone
-    if (!(t < t_best)) break;  // no progress: converged to the last bits
-    t_best = t;
-    const Vec3 b_next = meridian_direction(advance(s, t).r);
-    if (b_next.x == b.x && b_next.z == b.z) break;  // a fixed point
-    b = b_next;
-    if (it == max_face_iterations - 1) t_best = face_time_bracketed(c, s, t_best);
+  int it = 0;
+  bool fallback = false;  ///< max_face_iterations reached: the bracketing fallback decides
+};
+
+FaceIterate face_start(const State3& s) {
+  FaceIterate f;
+  f.b = meridian_direction(s.r);
+  f.b_start = f.b;
+  return f;
+}
+
+/// One iteration of the fixed point; false once it has ended (f.t_best is then its result,
+/// before the fallback and the check that the hit is on the face).
+///
+/// The distance from the cone is the minimum over the face's generators (half-planes b) of the
+/// distance from the generator's line, each a concave quadratic in t with the 2D face roots.
+/// Each is >= the cone's, so each root is >= the cone's; the root for the half-plane of the
+/// previous root's position is the next, smaller iterate (a Newton-like step: the two functions
+/// touch to first order there). In a meridian plane the first or second iterate is exact.
+[[gnu::always_inline]] inline bool face_step(const Cone& c, const State3& s, const FlightStart3& start, int max_iterations, FaceIterate& f) {
+  const Geometry& g = c.g;
+  const Vec3 n = cone_normal(c, f.b);
+  const double p = dot(s.v, n);
+  double delta0 = start.on_face && f.b.x == f.b_start.x && f.b.z == f.b_start.z ? 0.0 : generator_distance(c, f.b, s.r);
+  // Up the face from C* (anywhere, if closed) a negative distance is rounding: the centre is on
+  // the cone (as in 2D, measured along this generator).
+  if (delta0 < 0.0 && (g.closed || up_face(c, f.b.x * s.r.x + f.b.z * s.r.z, s.r.y) >= 0.0)) delta0 = 0.0;
+  const double t = line_arrival_time(delta0, p, g.cos_t);
+  if (t == never) return false;        // this generator is never reached, so neither is the cone
+  if (!(t < f.t_best)) return false;   // no progress: converged to the last bits
+  f.t_best = t;
+  const Vec3 b_next = meridian_direction(advance(s, t).r);
+  if (b_next.x == f.b.x && b_next.z == f.b.z) return false;  // a fixed point
+  f.b = b_next;
+  if (++f.it == max_iterations) {
+    f.fallback = true;
+    return false;
   }
-  if (t_best == never || g.closed) return t_best;
+  return true;
+}
+
+/// The face time from the fixed point's end: the fallback if it did not converge, and `never`
+/// for a hit below C* (an open funnel's face ends there).
+double face_finish(const Cone& c, const State3& s, const FaceIterate& f) {
+  const double t_best = f.fallback ? face_time_bracketed(c, s, f.t_best) : f.t_best;
+  if (t_best == never || c.g.closed) return t_best;
   const State3 at = advance(s, t_best);
   return up_face(c, axis_distance(at.r), at.r.y) >= 0.0 ? t_best : never;
 }
+
+}  // namespace
+
+double cone_face_time(const Cone& c, const State3& s, const FlightStart3& start) {
+  return detail::cone_face_time(c, s, start, max_face_iterations);
+}
+
+void cone_face_times(const Cone& c, std::span<const State3> s, std::span<const FlightStart3> start,
+                     std::span<double> out) {
+  detail::cone_face_times(c, s, start, out, max_face_iterations);
+}
+
+namespace detail {
+
+double cone_face_time(const Cone& c, const State3& s, const FlightStart3& start, int max_iterations) {
+  if (start.skip_face) return never;  // tangent at C*: a zero-time hit otherwise (Zeno)
+  FaceIterate f = face_start(s);
+  while (face_step(c, s, start, max_iterations, f)) {
+  }
+  return face_finish(c, s, f);
+}
+
+void cone_face_times(const Cone& c, std::span<const State3> s, std::span<const FlightStart3> start,
+                     std::span<double> out, int max_iterations) {
+  const std::size_t n = std::min(s.size(), max_face_lanes);
+  std::array<FaceIterate, max_face_lanes> f;
+  if (simd_lanes() > 1) {
+    // The fixed points in SIMD lanes (src/batch3d.cpp), each lane the scalar iteration's
+    // operations; then the fallback and the final check, one flight at a time.
+    static_assert(max_face_lanes <= batch::max_flights);
+    batch::FaceFlights lanes;
+    const batch::FaceConstants k{c.g.sin_t, c.g.cos_t, c.g.x_face_end, c.g.y_face_end, c.g.closed, max_iterations};
+    lanes.n = n;
+    for (std::size_t i = 0; i < batch::max_flights; ++i) {
+      const bool used = i < n && !start[i].skip_face;
+      lanes.active[i] = used ? 1.0 : 0.0;
+      if (!used) {
+        lanes.rx[i] = lanes.ry[i] = lanes.rz[i] = lanes.vx[i] = lanes.vy[i] = lanes.vz[i] = 0.0;
+        lanes.bx[i] = 1.0;
+        lanes.bz[i] = lanes.on_face[i] = 0.0;
+        continue;
+      }
+      f[i] = face_start(s[i]);
+      lanes.rx[i] = s[i].r.x;
+      lanes.ry[i] = s[i].r.y;
+      lanes.rz[i] = s[i].r.z;
+      lanes.vx[i] = s[i].v.x;
+      lanes.vy[i] = s[i].v.y;
+      lanes.vz[i] = s[i].v.z;
+      lanes.bx[i] = f[i].b.x;
+      lanes.bz[i] = f[i].b.z;
+      lanes.on_face[i] = start[i].on_face ? 1.0 : 0.0;
+    }
+    batch::face_times(k, lanes);
+    for (std::size_t i = 0; i < n; ++i) {
+      f[i].t_best = lanes.t_best[i];
+      f[i].fallback = lanes.fallback[i] != 0.0;
+      out[i] = start[i].skip_face ? never : face_finish(c, s[i], f[i]);
+    }
+    return;
+  }
+  // The scalar engine: the flights' fixed points advance together, one iteration of each in
+  // turn; each is a chain of dependent square roots and divisions, and the processor overlaps
+  // the independent chains.
+  std::array<std::size_t, max_face_lanes> active{};
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (start[i].skip_face) continue;
+    f[i] = face_start(s[i]);
+    active[m++] = i;
+  }
+  while (m > 0) {
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t i = active[j];
+      if (face_step(c, s[i], start[i], max_iterations, f[i])) active[kept++] = i;
+    }
+    m = kept;
+  }
+  for (std::size_t i = 0; i < n; ++i) out[i] = start[i].skip_face ? never : face_finish(c, s[i], f[i]);
+}
+
+}  // namespace detail
 
 double rim_time(const Cone& c, const State3& s, const FlightStart3& start, double t_limit) {
   const Geometry& g = c.g;
@@ -247,7 +357,11 @@ double exit_time(const Cone& c, const State3& s) {
 }
 
 NextEvent3 next_event(const Cone& c, const State3& s, const FlightStart3& start) {
-  NextEvent3 ev{EventKind::Face, cone_face_time(c, s, start)};
+  return next_event(c, s, start, cone_face_time(c, s, start));
+}
+
+NextEvent3 next_event(const Cone& c, const State3& s, const FlightStart3& start, double face_time) {
+  NextEvent3 ev{EventKind::Face, face_time};
   // A face contact is valid only at or above C* and the height is concave in time: a flight that
   // starts above C* stays above it until that contact (no rim, no exit first).
   if (ev.dt != never && (c.g.closed || s.r.y > c.g.y_face_end)) return ev;

@@ -2,13 +2,20 @@
 // path this CPU runs, and it is the path that computes the collisions.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cmath>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "funnel/engine.hpp"
+#include "funnel/engine3d.hpp"
+#include "funnel/ensemble3d.hpp"
+#include "funnel/flight3d.hpp"
 #include "funnel/ensemble.hpp"
 #include "funnel/random.hpp"
+#include "funnel/roots.hpp"
 #include "funnel/closed.hpp"
 #include "funnel/simd.hpp"
 #include "funnel/watch.hpp"
@@ -273,6 +280,220 @@ TEST(Simd, OtherFunnelsRunOneTrajectoryAtATime) {
   std::vector<Trajectory> got(initial.size());
   EXPECT_EQ(simulate_many(p, f, initial, got), 0);
   for (std::size_t k = 0; k < initial.size(); ++k) EXPECT_TRUE(same_trajectory(got[k], simulate(p, f, initial[k])));
+}
+
+// ---- The 3D engine: the face times of many flights at once (src/batch3d.cpp) ----
+
+bool same_vec(Vec3 a, Vec3 b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
+bool same_state3(const State3& a, const State3& b) {
+  return same_vec(a.r, b.r) && same_vec(a.v, b.v) && same_vec(a.omega, b.omega);
+}
+
+/// Every field of two 3D trajectories the same, bit for bit.
+bool same_trajectory3(const Trajectory3& a, const Trajectory3& b) {
+  return a.status == b.status && same_bits(a.duration, b.duration) && same_bits(a.impulse, b.impulse) &&
+         same_bits(a.normal_impulse, b.normal_impulse) && same_bits(a.energy_loss, b.energy_loss) &&
+         same_bits(a.energy_loss_events, b.energy_loss_events) && a.collisions == b.collisions &&
+         a.edge_collisions == b.edge_collisions && a.contacts == b.contacts && a.edge_contacts == b.edge_contacts &&
+         same_bits(a.contact_time, b.contact_time) && same_bits(a.orbits, b.orbits) && a.ode_steps == b.ode_steps &&
+         a.periodic == b.periodic && a.stopped == b.stopped && a.stalled == b.stalled &&
+         same_state3(a.final_state, b.final_state) && same_state3(a.exit_state, b.exit_state);
+}
+
+double uniform(std::uint64_t stream, std::uint64_t k, double lo, double hi) {
+  return lo + (hi - lo) * (0.5 + 0.5 * std::erf(standard_normal(11, stream, k) / std::sqrt(2.0)));
+}
+
+/// Flights of every kind the 3D engine starts: those after the events of random 3D trajectories
+/// (off a face, off the rim, after a contact), and made-up ones: anywhere in and below the cone
+/// with any velocity (distances behind a generator, negative ones below C*), in a meridian plane
+/// (exact zeros), and grazing the cone (slow fixed points).
+void flights_3d(const Params& p, const Cone& c, std::vector<State3>& s, std::vector<FlightStart3>& start) {
+  Ensemble3Options o;
+  o.samples = 24;
+  o.velocity_sd = 0.3;
+  for (std::int64_t k = 0; k < o.samples; ++k) {
+    State3 r = ensemble_release_3d(p, c, o, k);
+    r.omega = {30.0 * standard_normal(5, 1, static_cast<std::uint64_t>(k)), 0.0, 0.0};
+    s.push_back(r);
+    start.push_back({});
+    EventLog3 log;
+    simulate_3d(p, c, r, &log);
+    for (std::size_t i = 0; i < log.events.size() && i < 400; ++i) {
+      const Event3& e = log.events[i];
+      FlightStart3 f;
+      f.on_face = e.kind == EventKind::Face;
+      f.on_rim = e.kind == EventKind::Edge || e.kind == EventKind::EdgeContactEnd;
+      f.skip_face = e.kind == EventKind::ContactEnd && i % 2 == 0;
+      s.push_back({e.position, e.velocity_after, e.omega_after});
+      start.push_back(f);
+    }
+  }
+  const Geometry& g = c.g;
+  for (std::uint64_t k = 0; k < 3000; ++k) {
+    const double y = uniform(1, k, g.y_bottom - 0.05, 1.3 * g.y_release);
+    const double phi = uniform(2, k, -3.2, 3.2);
+    const double rho = uniform(3, k, 0.0, 1.1) * std::fmax(y / std::tan(p.theta * std::numbers::pi / 180.0), c.rim_radius);
+    State3 f;
+    f.r = {rho * std::cos(phi), y, rho * std::sin(phi)};
+    f.v = {standard_normal(12, 4, k), standard_normal(12, 5, k), standard_normal(12, 6, k)};
+    FlightStart3 st;
+    st.on_face = k % 3 == 0;
+    if (k % 5 == 0) {  // a meridian plane: z exactly 0, sometimes on the axis
+      f.r.z = 0.0;
+      f.v.z = 0.0;
+      if (k % 25 == 0) f.r.x = 0.0;
+    }
+    if (k % 7 == 0) {
+      // Grazing the cone: tangent to it at a point above C*, started a little before.
+      const Vec3 b{std::cos(phi), 0.0, std::sin(phi)};
+      const double l = uniform(7, k, 0.0, 1.0) * (g.y_release - g.y_face_end) / g.sin_t;
+      const Vec3 at{(g.x_face_end + l * g.cos_t) * b.x, g.y_face_end + l * g.sin_t, (g.x_face_end + l * g.cos_t) * b.z};
+      const Vec3 along{g.cos_t * b.x, g.sin_t, g.cos_t * b.z}, across{-b.z, 0.0, b.x};
+      const double a1 = standard_normal(13, 1, k), a2 = standard_normal(13, 2, k);
+      const double back = uniform(8, k, 1e-6, 0.5);
+      State3 touch{at, a1 * along + a2 * across, {}};
+      f = advance(touch, -back);
+    }
+    s.push_back(f);
+    start.push_back(st);
+  }
+}
+
+TEST(Simd, TheFaceTimesOfManyConeFlightsAtOnceAreEachFlightsBitForBitOnEveryPath) {
+  std::int64_t hits = 0, misses = 0, total = 0, capped_differ = 0;
+  for (const double theta : {20.0, 44.0, 60.0, 85.0}) {
+    for (const double gap : {0.04, 0.0}) {
+      Params p = default_params();
+      p.theta = theta;
+      p.gap = gap;
+      p.t_max = 50.0;
+      const Cone c = make_cone(p);
+      std::vector<State3> s;
+      std::vector<FlightStart3> start;
+      flights_3d(p, c, s, start);
+      total += static_cast<std::int64_t>(s.size());
+      // The engine's cap of 40 iterations, and low caps that send many flights to the
+      // bracketing fallback (which the engine's flights seldom reach).
+      for (const int cap : {40, 1, 2, 3}) {
+        std::vector<double> expected;
+        for (std::size_t i = 0; i < s.size(); ++i) expected.push_back(detail::cone_face_time(c, s[i], start[i], cap));
+        for (std::size_t i = 0; i < s.size(); ++i) {
+          if (cap == 40) (expected[i] == never ? misses : hits) += 1;
+          if (cap == 2) capped_differ += !same_bits(expected[i], cone_face_time(c, s[i], start[i]));
+        }
+        for (const std::string& path : simd_paths()) {
+          const PathScope scope(path);
+          std::vector<double> got(s.size(), -1.0);
+          // Groups of every size from 1 to max_face_lanes.
+          for (std::size_t first = 0, n = 1; first < s.size(); first += n, n = n % max_face_lanes + 1) {
+            const std::size_t m = std::min(n, s.size() - first);
+            detail::cone_face_times(c, {s.data() + first, m}, {start.data() + first, m}, {got.data() + first, m}, cap);
+          }
+          for (std::size_t i = 0; i < s.size(); ++i) {
+            ASSERT_TRUE(same_bits(got[i], expected[i]))
+                << "theta " << theta << ", gap " << gap << ", cap " << cap << ", path " << path << ", flight " << i
+                << ": " << got[i] << " instead of " << expected[i];
+          }
+          if (cap == 40) {
+            std::vector<double> public_api(s.size());
+            for (std::size_t first = 0; first < s.size(); first += max_face_lanes) {
+              const std::size_t m = std::min(max_face_lanes, s.size() - first);
+              cone_face_times(c, {s.data() + first, m}, {start.data() + first, m}, {public_api.data() + first, m});
+            }
+            for (std::size_t i = 0; i < s.size(); ++i) ASSERT_TRUE(same_bits(public_api[i], expected[i])) << i;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(total, 40000);
+  EXPECT_GT(hits, total / 4);
+  EXPECT_GT(misses, 200);
+  EXPECT_GT(capped_differ, 100);  // the fallback ran, and its last bits are its own
+}
+
+TEST(Simd, ManyThreeDimensionalTrajectoriesRunSideBySideAreEachTheSameBitsOnEveryPath) {
+  struct Case3 {
+    const char* name;
+    double theta, e, mu, beta0, gap, t_max, velocity_sd;
+    std::int64_t max_collisions;
+  };
+  const Case3 cases3[] = {
+      {"60 degrees, sigma 0.1 (collapses, rolling round the cone)", 60, 0.99, 1, 0, 0.04, 300, 0.1, 100'000'000},
+      {"44 degrees, sigma 0.3", 44, 0.99, 1, 0.31, 0.04, 300, 0.3, 100'000'000},
+      {"frictionless elastic", 50, 1.0, 0.0, -1.0, 0.04, 60, 0.2, 100'000'000},
+      {"closed cone", 50, 0.9, 0.2, 0, 0.0, 12, 0.2, 100'000'000},
+      {"time cap", 60, 0.99, 1, 0, 0.04, 3, 0.1, 100'000'000},
+      {"collision cap", 60, 0.99, 1, 0, 0.04, 300, 0.1, 57},
+  };
+  for (const Case3& k : cases3) {
+    Params p = default_params();
+    p.theta = k.theta;
+    p.e = k.e;
+    p.mu = k.mu;
+    p.beta0 = k.beta0;
+    p.gap = k.gap;
+    p.t_max = k.t_max;
+    p.max_collisions = k.max_collisions;
+    const Cone c = make_cone(p);
+    Ensemble3Options o;
+    o.samples = 61;
+    o.velocity_sd = k.velocity_sd;
+    o.seed = 9;
+    std::vector<State3> initial;
+    std::vector<Trajectory3> expected;
+    for (std::int64_t i = 0; i < o.samples; ++i) {
+      initial.push_back(ensemble_release_3d(p, c, o, i));
+      expected.push_back(simulate_3d(p, c, initial.back()));
+    }
+    for (const std::string& path : simd_paths()) {
+      const PathScope scope(path);
+      std::vector<Trajectory3> got(initial.size());
+      simulate_3d_many(p, c, initial, got);
+      for (std::size_t i = 0; i < initial.size(); ++i) {
+        ASSERT_TRUE(same_trajectory3(got[i], expected[i])) << k.name << ", path " << path << ", sample " << i;
+      }
+    }
+  }
+  // Cancelled before it starts: no trajectory is run, the outputs are left as they were.
+  Params p = default_params();
+  const Cone c = make_cone(p);
+  const std::vector<State3> initial(5, release_state_3d(p, c, 0.3));
+  std::vector<Trajectory3> got(5);
+  got[2].duration = -7.0;
+  const std::atomic<bool> cancel{true};
+  simulate_3d_many(p, c, initial, got, &cancel);
+  EXPECT_EQ(got[2].duration, -7.0);
+  EXPECT_EQ(got[0].collisions, 0);
+}
+
+TEST(Simd, ThreeDimensionalEnsemblesAreTheSameBitsOnEveryPath) {
+  Params p = default_params();
+  p.theta = 60.0;
+  p.t_max = 300.0;
+  Ensemble3Options o;
+  o.samples = 300;
+  o.velocity_sd = 0.05;
+  o.threads = 2;
+  o.keep_samples = true;
+  std::vector<Ensemble3Result> results;
+  for (const std::string& path : simd_paths()) {
+    const PathScope scope(path);
+    results.push_back(run_ensemble_3d(p, o));
+  }
+  const Cone c = make_cone(p);
+  for (std::size_t k = 0; k < results[0].per_sample.size(); ++k) {
+    const Trajectory3 alone = simulate_3d(p, c, ensemble_release_3d(p, c, o, static_cast<std::int64_t>(k)));
+    for (const Ensemble3Result& r : results) ASSERT_TRUE(same_trajectory3(r.per_sample[k].trajectory, alone)) << k;
+  }
+  for (std::size_t i = 1; i < results.size(); ++i) {
+    for (std::size_t o2 = 0; o2 < results[0].stats.size(); ++o2) {
+      EXPECT_TRUE(same_bits(results[i].stats[o2].mean, results[0].stats[o2].mean));
+      EXPECT_TRUE(same_bits(results[i].stats[o2].sem, results[0].stats[o2].sem));
+    }
+  }
+  EXPECT_GT(results[0].trapped, 0);  // rolling round the cone: long trajectories among short ones
 }
 
 }  // namespace

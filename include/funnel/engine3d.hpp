@@ -2,7 +2,9 @@
 // (docs/model.md §9).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -74,6 +76,13 @@ struct Trajectory3 {
 
 /// Runs one 3D trajectory from any admissible initial state (units H = g = m = 1).
 Trajectory3 simulate_3d(const Params& params, const Cone& cone, const State3& initial, EventSink3* sink = nullptr);
+
+/// simulate_3d of every initial state, out[i] from initial[i] (out.size() >= initial.size()): the
+/// same trajectories, bit for bit, faster, as several run side by side (their flights' face
+/// times are found together, cone_face_times). Once *cancel is set, no further run starts (the
+/// outputs of those not started are left as they were).
+void simulate_3d_many(const Params& params, const Cone& cone, std::span<const State3> initial,
+                      std::span<Trajectory3> out, const std::atomic<bool>* cancel = nullptr);
 
 /// The release state at x = fraction * L, z = 0 on the release plane (fraction in (-1, 1)), with
 /// velocity (release_u, release_v, release_w) and spin (release_spin_x, release_spin_y,
