@@ -210,6 +210,38 @@ TEST(Engine3d, ElasticCollisionsThatDoNotDissipateConserveEnergy) {
   std::printf("e = 1, |beta0| = 1: worst energy drift over 20000 collisions %.3g\n", worst);
 }
 
+TEST(Engine3d, InAClosedConeAContactThatReachesTheVertexEndsAtRest) {
+  // Balls of a closed-cone ensemble (theta = 50, e = 0.9, mu = 0.2, random sideways velocity)
+  // that end in contact at the vertex: one sliding in a spiral (it took 20 million integrator
+  // steps, 18 s, to come from 1.2e-9 to 3e-10 H of the vertex, then ended `trapped` by the step
+  // guard), one rolling round the axis 1.7e-8 H from it. docs/model.md §6: a sustained contact
+  // that reaches the vertex rests there.
+  Params p = params_with(50.0, 0.9, 0.2, 0.0, 0.0);
+  p.t_max = 60.0;
+  const Cone c = make_cone(p);
+  struct Release {
+    double x, u, w;
+  };
+  for (const Release r : {Release{0.3535533905932738, -0.03200873454552607, -0.16810381489235798},
+                          Release{0.45267873021259264, 0.296263256421682, 0.14262118999254011}}) {
+    Params q = p;
+    q.release_u = r.u;
+    q.release_w = r.w;
+    EventLog3 log;
+    const Trajectory3 t = simulate_3d(q, c, release_state_3d(q, c, r.x), &log);
+    EXPECT_EQ(t.status, Status::Rest) << r.x;
+    EXPECT_FALSE(t.stalled);
+    EXPECT_LT(t.duration, 25.0);
+    EXPECT_LT(t.ode_steps, 100000);
+    EXPECT_LE(axis_distance(t.final_state.r), 1e-4 * p.radius * (1.0 + 1e-9));
+    EXPECT_LT(t.final_state.r.y, 1e-4 * p.radius);
+    EXPECT_EQ(t.final_state.v.x, 0.0);
+    EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-12));
+    ASSERT_FALSE(log.events.empty());
+    EXPECT_EQ(log.events.back().kind, EventKind::ContactEnd);
+  }
+}
+
 TEST(Engine3d, EnergyLossEqualsSumOfEventLosses) {
   int with_contacts = 0;
   for (const double theta : {25.0, 50.0, 70.0}) {
