@@ -1,13 +1,10 @@
 // `funnel paper`: every figure of the paper as data (CSV + JSON), pictures and an HTML report.
 #include <fcntl.h>
 #include <poll.h>
-#include <sys/prctl.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <csignal>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -90,144 +87,69 @@ std::string default_paper_dir() {
   return installed.empty() ? FUNNEL_PAPER_DIR : installed;
 }
 
-/// `python -m funnel.plot DIR --follow`, started before the data is computed: it draws each
-/// figure as soon as its data is written (ready() names it on the plotter's standard input), so
-/// that matplotlib's start and the first pictures overlap the remaining computation. finish()
-/// ends its input, shows a progress bar (figures whose PNG is written) while it draws the rest,
-/// then what Python said apart from its per-figure lines; false (after saying why) if it failed.
-class Plotter {
- public:
-  Plotter() = default;
-  Plotter(const Plotter&) = delete;
-  Plotter& operator=(const Plotter&) = delete;
-
-  /// A run that ends before finish() (an error) stops the plotter: no pictures or report of a
-  /// run that did not complete.
-  ~Plotter() {
-    if (pid_ < 0) return;
-    kill(pid_, SIGTERM);
-    if (in_ >= 0) close(in_);
-    close(err_);
-    while (waitpid(pid_, nullptr, 0) < 0 && errno == EINTR) {
-    }
+/// Runs `python -m funnel.plot DIR` with a progress bar (figures whose PNG is written), showing
+/// what Python says apart from its per-figure lines; returns false (after saying why) if it fails.
+bool make_plots(const std::string& dir, const std::vector<FigureSpec>& figs) {
+  const std::string python = python_interpreter();
+  std::string path = installed_dir(FUNNEL_INSTALL_PYTHON_DIR);
+  if (path.empty()) path = FUNNEL_PYTHON_PATH;
+  if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += std::string(":") + old;
+  int pipe_fd[2];
+  if (pipe2(pipe_fd, O_CLOEXEC) != 0) return false;
+  // Files older than this are from an earlier run (one second of slack for coarse file clocks).
+  const auto stage_start = fs::file_time_type::clock::now() - std::chrono::seconds(1);
+  std::fflush(stderr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(pipe_fd[1], STDERR_FILENO);
+    setenv("PYTHONPATH", path.c_str(), 1);
+    setenv("MPLBACKEND", "Agg", 1);
+    execlp(python.c_str(), python.c_str(), "-m", "funnel.plot", dir.c_str(), static_cast<char*>(nullptr));
+    std::perror(("funnel paper: cannot start " + python).c_str());
+    _exit(127);
   }
-
-  /// Starts the plotter; false if it could not be started (no process made).
-  bool start(const std::string& dir) {
-    dir_ = dir;
-    const std::string python = python_interpreter();
-    std::string path = installed_dir(FUNNEL_INSTALL_PYTHON_DIR);
-    if (path.empty()) path = FUNNEL_PYTHON_PATH;
-    if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += std::string(":") + old;
-    // Its standard input is a socket, so that names sent after it died (bad data, no Python)
-    // fail with EPIPE (MSG_NOSIGNAL) instead of a SIGPIPE that would end this process.
-    int err_fd[2], in_fd[2];
-    if (pipe2(err_fd, O_CLOEXEC) != 0) return false;
-    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, in_fd) != 0) {
-      close(err_fd[0]);
-      close(err_fd[1]);
-      return false;
-    }
-    // Files older than this are from an earlier run (one second of slack for coarse file clocks).
-    stage_start_ = fs::file_time_type::clock::now() - std::chrono::seconds(1);
-    std::fflush(stderr);
-    const pid_t pid = fork();
-    if (pid == 0) {
-      prctl(PR_SET_PDEATHSIG, SIGTERM);  // and if this process is killed
-      dup2(err_fd[1], STDERR_FILENO);
-      dup2(in_fd[1], STDIN_FILENO);
-      // The lowest priority: it draws on the cores the computation leaves idle, and the rest
-      // once the data is done (competing for the cores cost more CPU than it saved).
-      if (nice(19) == -1) {
+  close(pipe_fd[1]);
+  if (pid < 0) {
+    close(pipe_fd[0]);
+    return false;
+  }
+  std::string said;
+  int status = 0;
+  {
+    ProgressBar bar("funnel paper: plots", true);
+    const auto drawn = [&] {
+      std::int64_t n = 0;
+      for (const FigureSpec& f : figs) {
+        std::error_code ec;
+        const auto t = fs::last_write_time(fs::path(dir) / f.id / (f.id + ".png"), ec);
+        n += !ec && t >= stage_start;
       }
-      setenv("PYTHONPATH", path.c_str(), 1);
-      setenv("MPLBACKEND", "Agg", 1);
-      execlp(python.c_str(), python.c_str(), "-m", "funnel.plot", dir.c_str(), "--follow", static_cast<char*>(nullptr));
-      std::perror(("funnel paper: cannot start " + python).c_str());
-      _exit(127);
-    }
-    close(err_fd[1]);
-    close(in_fd[1]);
-    if (pid < 0) {
-      close(err_fd[0]);
-      close(in_fd[0]);
-      return false;
-    }
-    pid_ = pid;
-    err_ = err_fd[0];
-    in_ = in_fd[0];
-    return true;
-  }
-
-  /// The data of figure `id` is complete: it may be drawn.
-  void ready(const std::string& id) {
-    if (in_ < 0) return;
-    const std::string line = id + "\n";
-    std::size_t sent = 0;
-    while (sent < line.size()) {
-      const ssize_t n = send(in_, line.data() + sent, line.size() - sent, MSG_NOSIGNAL);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;  // the plotter has ended; finish() says why
-      sent += static_cast<std::size_t>(n);
-    }
-    drain(0);
-  }
-
-  bool finish(const std::vector<FigureSpec>& figs) {
-    if (pid_ < 0) return false;
-    close(in_);
-    in_ = -1;
-    int status = 0;
-    {
-      ProgressBar bar("funnel paper: plots", true);
-      const auto drawn = [&] {
-        std::int64_t n = 0;
-        for (const FigureSpec& f : figs) {
-          std::error_code ec;
-          const auto t = fs::last_write_time(fs::path(dir_) / f.id / (f.id + ".png"), ec);
-          n += !ec && t >= stage_start_;
-        }
-        return n;
-      };
-      const auto total = static_cast<std::int64_t>(figs.size());
-      while (drain(100)) bar.update(drawn(), total);
-      close(err_);
-      while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-      }
-      bar.finish(std::to_string(drawn()) + " of " + std::to_string(total) + " figures drawn");
-    }
-    pid_ = -1;
-    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    std::istringstream lines(said_);
-    for (std::string line; std::getline(lines, line);) {
-      const bool per_figure = line.rfind("funnel.plot: wrote ", 0) == 0 && line.find("index.html") == std::string::npos;
-      if (!ok || !per_figure) std::cerr << line << "\n";
-    }
-    return ok;
-  }
-
- private:
-  /// Reads what the plotter has said, waiting up to timeout_ms for it; false at its end.
-  bool drain(int timeout_ms) {
+      return n;
+    };
+    const auto total = static_cast<std::int64_t>(figs.size());
     for (;;) {
-      pollfd pfd{err_, POLLIN, 0};
-      const int r = poll(&pfd, 1, timeout_ms);
-      if (r < 0 && errno == EINTR) continue;
-      if (r <= 0) return true;
-      char buf[4096];
-      const ssize_t n = read(err_, buf, sizeof buf);
-      if (n == 0 || (n < 0 && errno != EINTR)) return false;
-      if (n > 0) said_.append(buf, static_cast<std::size_t>(n));
-      timeout_ms = 0;
+      pollfd pfd{pipe_fd[0], POLLIN, 0};
+      if (poll(&pfd, 1, 100) > 0) {
+        char buf[4096];
+        const ssize_t n = read(pipe_fd[0], buf, sizeof buf);
+        if (n == 0 || (n < 0 && errno != EINTR)) break;
+        if (n > 0) said.append(buf, static_cast<std::size_t>(n));
+      }
+      bar.update(drawn(), total);
     }
+    close(pipe_fd[0]);
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    bar.finish(std::to_string(drawn()) + " of " + std::to_string(total) + " figures drawn");
   }
-
-  std::string dir_;
-  pid_t pid_ = -1;
-  int in_ = -1, err_ = -1;
-  fs::file_time_type stage_start_;
-  std::string said_;
-};
+  const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  std::istringstream lines(said);
+  for (std::string line; std::getline(lines, line);) {
+    const bool per_figure = line.rfind("funnel.plot: wrote ", 0) == 0 && line.find("index.html") == std::string::npos;
+    if (!ok || !per_figure) std::cerr << line << "\n";
+  }
+  return ok;
+}
 
 struct PaperCommand {
   std::string out;
@@ -264,9 +186,6 @@ struct PaperCommand {
     SweepCache cache([](const std::vector<Params>& points, const EnsembleOptions& options, const Progress& progress) {
       return distributed_sweep(points, options, progress);
     });
-    // The plotter starts now and draws each figure once its data is written.
-    Plotter plotter;
-    const bool plotting = !no_plots && plotter.start(out);
     for (const FigureSpec& f : figs) request_sweeps(f, cache);
     std::cerr << "funnel paper: " << figs.size() << " figures, " << cache.size() << " ensembles of θ sweeps"
               << (quick ? " (quick preview)" : "") << "\n";
@@ -306,12 +225,11 @@ struct PaperCommand {
       write_output((fs::path(dir) / (f.id + ".json")).string(), meta.dump(2) + "\n");
       std::cerr << "funnel paper: " << f.id << " data written (" << static_cast<int>(run_time * 10) / 10.0 << " s)\n";
       checks.emplace_back(f.id, data.check);
-      plotter.ready(f.id);
     }
 
     if (no_plots) {
       std::cerr << "funnel paper: --no-plots: pictures and index.html not made\n";
-    } else if (!plotting || !plotter.finish(figs)) {
+    } else if (!make_plots(out, figs)) {
       std::cerr << "funnel paper: pictures not made: Python 3 with numpy and matplotlib is needed\n"
                    "  (Debian: apt-get install python3-numpy python3-matplotlib; or set FUNNEL_PYTHON);\n"
                    "  the data (CSV + JSON) is complete in "

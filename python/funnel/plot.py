@@ -600,56 +600,25 @@ def _render_entry(figdir):
     return {"dir": Path(figdir).name, "meta": meta, "images": [p.name for p in paths]}, paths
 
 
-def render_all(outdir, log=None, jobs=None, follow=None):
+def render_all(outdir, log=None, jobs=None):
     """Renders every figure of outdir and writes outdir/index.html; returns the index's path.
 
     ``jobs`` figures are drawn at once in separate processes (default: the number of cores;
     1 draws them one after the other in this process). Each picture is the same either way.
-
-    ``follow``: an iterable of figure directory names (lines of text, e.g. a stream that another
-    program writes while it computes the figures). Each figure is drawn as soon as its name
-    arrives; when the names end, every figure of outdir not named yet is drawn too. Without it,
-    every figure's record is read before any picture is drawn.
     """
     from . import report
-    outdir = Path(outdir)
-    jobs = (os.cpu_count() or 1) if jobs is None else int(jobs)
+    dirs = figure_dirs(outdir)
+    for figdir in dirs:
+        load_meta(figdir)  # every record readable before any picture is drawn
+    jobs = min(len(dirs), os.cpu_count() or 1) if jobs is None else int(jobs)
     if jobs < 1:
         raise ValueError(f"invalid jobs = {jobs}: valid range is an integer >= 1")
-
-    def named():
-        for line in follow:
-            name = line.strip()
-            if not name:
-                continue
-            figdir = outdir / name
-            if Path(name).name != name or not (figdir / f"{name}.json").is_file():
-                raise ValueError(f"invalid figure '{name}': no {name}/{name}.json in '{outdir}'")
-            yield figdir
-
-    def every_figure():
-        seen = set()
-        if follow is not None:
-            for figdir in named():
-                if figdir not in seen:
-                    seen.add(figdir)
-                    load_meta(figdir)
-                    yield figdir
-        rest = [d for d in figure_dirs(outdir) if d not in seen]
-        for figdir in rest:
-            load_meta(figdir)  # every record readable before any (other) picture is drawn
-        yield from rest
-
     by_dir = {}
-
-    def done(figdir, entry, paths):
-        by_dir[figdir] = entry
-        if log:
-            log(f"funnel.plot: wrote {', '.join(str(p) for p in paths)}")
-
-    if jobs == 1 or (follow is None and len(figure_dirs(outdir)) < 2):
-        for figdir in every_figure():
-            done(figdir, *_render_entry(figdir))
+    if jobs == 1 or len(dirs) < 2:
+        for figdir in dirs:
+            by_dir[figdir], paths = _render_entry(figdir)
+            if log:
+                log(f"funnel.plot: wrote {', '.join(str(p) for p in paths)}")
     else:
         import concurrent.futures
         import multiprocessing
@@ -657,14 +626,12 @@ def render_all(outdir, log=None, jobs=None, follow=None):
         import matplotlib.figure  # noqa: F401  (imported once here, inherited by the forked workers)
         context = multiprocessing.get_context("fork")
         with concurrent.futures.ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-            futures = {}
-            for figdir in every_figure():
-                futures[pool.submit(_render_entry, figdir)] = figdir
-                for finished in [f for f in futures if f.done()]:
-                    done(futures.pop(finished), *finished.result())
-            for finished in concurrent.futures.as_completed(futures):
-                done(futures[finished], *finished.result())
-    return report.write_index(outdir, [by_dir[d] for d in sorted(by_dir)])
+            futures = {pool.submit(_render_entry, figdir): figdir for figdir in dirs}
+            for done in concurrent.futures.as_completed(futures):
+                by_dir[futures[done]], paths = done.result()
+                if log:
+                    log(f"funnel.plot: wrote {', '.join(str(p) for p in paths)}")
+    return report.write_index(outdir, [by_dir[d] for d in dirs])
 
 
 def main(argv=None):
@@ -687,10 +654,6 @@ def main(argv=None):
     parser.add_argument("outdir", help="directory with one subdirectory figNN/ per figure")
     parser.add_argument("--jobs", type=int, default=None,
                         help="figures drawn at once, in separate processes (default: the number of cores)")
-    parser.add_argument("--follow", action="store_true",
-                        help="read figure names (figNN), one per line, from standard input and draw each as it "
-                             "arrives (funnel paper starts this before computing the data); at the end of the "
-                             "input, draw the figures of OUTDIR not named")
     args = parser.parse_args(argv)
     if args.jobs is not None and args.jobs < 1:
         parser.error(f"invalid jobs = {args.jobs}: valid range is an integer >= 1")
@@ -698,8 +661,7 @@ def main(argv=None):
     if not outdir.is_dir():
         parser.error(f"invalid outdir = '{outdir}': not a directory")
     try:
-        index = render_all(outdir, log=lambda msg: print(msg, file=sys.stderr), jobs=args.jobs,
-                           follow=sys.stdin if args.follow else None)
+        index = render_all(outdir, log=lambda msg: print(msg, file=sys.stderr), jobs=args.jobs)
     except (ValueError, KeyError, IndexError, OSError) as err:
         # Bad figure data (or an unwritable picture): one line, exit status 2, not a traceback.
         what = f"missing column {err}" if isinstance(err, KeyError) else str(err)

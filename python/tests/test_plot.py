@@ -103,41 +103,6 @@ def test_figures_drawn_in_parallel_are_those_drawn_one_by_one(dataset, tmp_path)
         plot.render_all(serial, jobs=0)
 
 
-@pytest.mark.parametrize("jobs", [1, 2])
-def test_follow_draws_the_named_figures_as_they_come_then_the_others(dataset, tmp_path, jobs):
-    # funnel paper names each figure on the plotter's input once its data is written.
-    outdir, dirs = dataset
-    copy = tmp_path / "follow"
-    shutil.copytree(outdir, copy)
-    for d in dirs:
-        for ext in ("png", "svg"):
-            (copy / d.name / f"{d.name}.{ext}").unlink()
-    (copy / "index.html").unlink()
-    read, drawn_before = [], []
-
-    def names():  # a blank line and a name given twice are ignored
-        for line in ("fig10\n", "\n", "fig03\n", "fig10\n"):
-            drawn_before.append((copy / "fig10" / "fig10.png").exists())
-            read.append(line.strip())
-            yield line
-
-    wrote = []
-    plot.render_all(copy, log=wrote.append, jobs=jobs, follow=names())
-    assert read == ["fig10", "", "fig03", "fig10"]
-    if jobs == 1:  # each drawn as it is named, before the next name is read; then the rest in order
-        assert drawn_before == [False, True, True, True]
-        rest = sorted(d.name for d in dirs if d.name not in ("fig03", "fig10"))
-        assert "fig10.png" in wrote[0] and "fig03.png" in wrote[1] and f"{rest[0]}.png" in wrote[2]
-    assert len(wrote) == len(dirs)
-    for d in dirs:
-        for ext in ("png", "svg"):
-            assert (copy / d.name / f"{d.name}.{ext}").read_bytes() == (d / f"{d.name}.{ext}").read_bytes(), d.name
-    assert (copy / "index.html").read_text() == (outdir / "index.html").read_text()
-    for bad in ("fig77", "../follow/fig03", "fig03/.."):
-        with pytest.raises(ValueError, match="invalid figure"):
-            plot.render_all(copy, jobs=jobs, follow=iter([bad + "\n"]))
-
-
 def test_module_entry_point(tmp_path):
     write_fake_dataset(tmp_path)
     for d in list(tmp_path.iterdir()):
