@@ -44,11 +44,12 @@ enum : std::size_t { Q = 0, PHI = 1, QD = 2, H = 3, WX = 4, WY = 5, WZ = 6, IN =
 /// Accepted steps after which a contact is ended as TimeCap: a guard no physical contact reaches
 /// within the default time cap except an exactly circular orbit (which never repeats a radial period).
 constexpr std::int64_t max_steps = 20'000'000;
-/// In a closed cone, a sustained contact has reached the vertex once its centre is within this
-/// many radii of the axis (docs/model.md §9). A ball that still turns about the axis spirals into
-/// the vertex ever faster (h = rho^2 phi' is only slowly lost to friction): integrated to the
-/// vertex itself, its steps would not end (20 million of them took a ball from 1.2e-9 to
-/// 3e-10 H of the vertex).
+/// In a closed cone, a sustained contact has reached the vertex once its energy above the vertex
+/// is below this many radii (times m g): it can never again rise further from the vertex than
+/// that (docs/model.md §9). A ball that still turns about the axis spirals into the vertex ever
+/// faster (h = rho^2 phi' is only slowly lost to friction): integrated until its energy is below
+/// eps_rest, its steps would not end (20 million of them took a ball from 1.2e-9 to 3e-10 H of
+/// the vertex). A ball that only passes near the axis keeps its energy and goes on.
 constexpr double vertex_reach = 1e-4;
 /// Phase changes after which a contact is ended as TimeCap: a guard against chattering between
 /// rolling and sliding, never reached in the tests.
@@ -311,9 +312,10 @@ class Integrated {
       e.f[3] = std::numbers::pi - y[Q];
     }
     // A closed cone's contact ends at rest when the energy above the vertex is below eps_rest or
-    // the centre has reached the vertex (within vertex_reach a of the axis).
+    // below vertex_reach a: the centre can then never rise more than vertex_reach a above the
+    // vertex again (a contact only loses energy, and so do collisions), so it has reached it.
     if (cone_.g.closed) {
-      e.f[4] = std::fmin(energy(sf_.state(y), m_.kappa, m_.radius) - opt_.eps_rest, k.rho - vertex_reach * m_.radius);
+      e.f[4] = energy(sf_.state(y), m_.kappa, m_.radius) - std::fmax(opt_.eps_rest, vertex_reach * m_.radius);
     }
     // Sliding: the slip's zero. Onset: static friction becoming able to hold rolling again (the
     // slip is still 0 within rounding), which also goes to the zero-slip decision.
@@ -412,6 +414,7 @@ class Integrated {
         q_max = std::max(q_max, qv);
         q_low = std::min(q_low, qv);
         if (res_.steps >= max_steps) return Stop::Cap;
+        if ((res_.steps & 1023) == 0 && opt_.cancel != nullptr && opt_.cancel->load(std::memory_order_relaxed)) return Stop::Cap;
         continue;
       }
       stepper.calc_state(root, y);

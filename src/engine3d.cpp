@@ -32,11 +32,13 @@ constexpr int max_hand_overs = 1000;
 
 class Run3 {
  public:
-  Run3(const Params& params, const Cone& cone, const State3& initial, EventSink3* sink)
+  Run3(const Params& params, const Cone& cone, const State3& initial, EventSink3* sink,
+       const std::atomic<bool>* cancel = nullptr)
       : params_(params), cone_(cone), g_(cone.g), mat_(material(params)), law_(collision_constants(mat_)),
         sink_(sink), state_(initial) {
     e0_ = energy(initial, mat_.kappa, mat_.radius);
     opt_.eps_rest = params.eps_rest;
+    opt_.cancel = cancel;
   }
 
   Trajectory3 finish() {
@@ -405,7 +407,7 @@ void simulate_3d_many(const Params& params, const Cone& cone, std::span<const St
     run[lane].reset();
     if (next < initial.size() && !stopped()) {
       index[lane] = next;
-      run[lane].emplace(params, cone, initial[next], nullptr);
+      run[lane].emplace(params, cone, initial[next], nullptr, cancel);
       ++next;
     }
   };
@@ -418,7 +420,7 @@ void simulate_3d_many(const Params& params, const Cone& cone, std::span<const St
       starts[n] = run[lane]->start();
       ++n;
     }
-    if (n == 0) return;
+    if (n == 0 || stopped()) return;
     cone_face_times(cone, {states.data(), n}, {starts.data(), n}, {face_times.data(), n});
     std::size_t k = 0;
     for (std::size_t lane = 0; lane < lanes; ++lane) {

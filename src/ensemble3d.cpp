@@ -113,9 +113,13 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
   const std::int64_t n = options.samples;
   const std::int64_t blocks_per_point = std::min(max_chunks, (n + min_chunk - 1) / min_chunk);
   // A task runs consecutive blocks of a point, about balls_per_task trajectories side by side
-  // (simulate_3d_many); each block keeps its own statistics, reduced in index order as before.
-  const std::int64_t tasks_per_point = std::clamp<std::int64_t>((n + balls_per_task - 1) / balls_per_task, 1, blocks_per_point);
+  // (simulate_3d_many), or fewer so that every thread has four tasks; each block keeps its own
+  // statistics, reduced in index order, so the grouping (and the thread count) changes no bit.
   const auto n_points = static_cast<std::int64_t>(points.size());
+  const int n_threads = resolve_threads(options.threads);
+  const std::int64_t wanted = std::max((n + balls_per_task - 1) / balls_per_task,
+                                       (4 * n_threads + std::max<std::int64_t>(n_points, 1) - 1) / std::max<std::int64_t>(n_points, 1));
+  const std::int64_t tasks_per_point = std::max<std::int64_t>(1, std::min(wanted, blocks_per_point));
   const std::int64_t n_tasks = n_points * tasks_per_point;
   const std::int64_t n_blocks = n_points * blocks_per_point;
   std::vector<Cone> cones;
@@ -130,7 +134,7 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
   std::int64_t finished = 0;
   const auto block_begin = [&](std::int64_t block) { return block * n / blocks_per_point; };
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
+#pragma omp parallel for schedule(dynamic, 1) num_threads(n_threads)
   for (std::int64_t task = 0; task < n_tasks; ++task) {
     const std::int64_t point = task / tasks_per_point;
     const std::int64_t part = task % tasks_per_point;
@@ -146,7 +150,7 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
     starts.reserve(static_cast<std::size_t>(last - first));
     for (std::int64_t k = first; k < last; ++k) starts.push_back(ensemble_release_3d(params, cone, point_options, k));
     std::vector<Trajectory3> runs(starts.size());
-    // A 3D trajectory may take milliseconds: once cancelled, no further trajectory starts.
+    // A 3D trajectory may take seconds: once cancelled, the runs stop at their next event.
     simulate_3d_many(params, cone, starts, runs, options.cancel);
     const bool cancelled = options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed);
     for (std::int64_t block = first_block; block < last_block && !cancelled; ++block) {

@@ -55,6 +55,32 @@ Contact3Options budget(double t, bool periodic = false) {
   return o;
 }
 
+TEST(Contact3d, InAClosedConeABallPassingCloseToTheAxisWithItsEnergyGoesOn) {
+  // A contact has reached a closed cone's vertex once its energy above the vertex is below
+  // 1e-4 a (it can then never rise further): not merely by coming close to the axis. Sliding
+  // without friction and rolling keep their energy through a pass 1e-7 H from the axis (an
+  // earlier test by distance, 1e-4 a, ended them at rest and booked their energy as lost).
+  Params p = default_params();
+  p.theta = 50.0;
+  p.gap = 0.0;
+  const Cone c = make_cone(p);
+  const double rho = 0.4 * c.g.cos_t;
+  for (const double mu : {0.0, 1.0}) {
+    const Material m = material_of(mu);
+    for (const double h : {5e-7, 2e-6}) {
+      State3 s = on_cone(c, rho, 0.3, 0.5, h / rho);
+      if (mu > 0.0) {  // rolling: the spin that makes the slip vanish
+        const Vec3 n = cone_normal(c, meridian_direction(s.r));
+        s.omega = (1.0 / m.radius) * cross(n, s.v);
+      }
+      const Contact3Result r = face_contact(s, c, m, budget(5.0, true));
+      EXPECT_NE(r.how, Contact3End::Rest) << "mu " << mu << ", h " << h;
+      EXPECT_LT(std::fabs(r.energy_lost), 1e-8) << "mu " << mu << ", h " << h;
+      EXPECT_GT(r.duration, 0.5);  // past the axis and on
+    }
+  }
+}
+
 TEST(Contact3d, FrictionlessSlidingConservesEnergyAndAngularMomentumAboutTheAxis) {
   const Material m = material_of(0.0);
   double worst_e = 0.0, worst_l = 0.0;

@@ -214,8 +214,9 @@ TEST(Engine3d, InAClosedConeAContactThatReachesTheVertexEndsAtRest) {
   // Balls of a closed-cone ensemble (theta = 50, e = 0.9, mu = 0.2, random sideways velocity)
   // that end in contact at the vertex: one sliding in a spiral (it took 20 million integrator
   // steps, 18 s, to come from 1.2e-9 to 3e-10 H of the vertex, then ended `trapped` by the step
-  // guard), one rolling round the axis 1.7e-8 H from it. docs/model.md §6: a sustained contact
-  // that reaches the vertex rests there.
+  // guard), one rolling round the axis 1.7e-8 H from it (the same, 17 s). docs/model.md §6: a
+  // sustained contact that reaches the vertex rests there; it has once its energy above the
+  // vertex is below 1e-4 a (§9).
   Params p = params_with(50.0, 0.9, 0.2, 0.0, 0.0);
   p.t_max = 60.0;
   const Cone c = make_cone(p);

@@ -5,6 +5,8 @@
 // Runge-Kutta method with dense output, on which every event is located by root refinement.
 #pragma once
 
+#include <atomic>
+
 #include <cstdint>
 #include <limits>
 
@@ -34,6 +36,9 @@ struct Contact3Options {
   double abs_tol = 1e-14;       ///< absolute tolerance of the integrator (per step)
   bool detect_periodic = true;  ///< extrapolate conservative contacts once a radial period has repeated
   bool closed_forms = true;     ///< use the 2D closed forms for motion in a meridian plane
+  /// Once set, an integrated contact stops within 1024 steps, as at the step guard (TimeCap): a
+  /// cancelled ensemble (Ctrl-C) does not wait for its long contacts. Its results are discarded.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Outcome of a sustained contact in 3D.

@@ -79,8 +79,8 @@ Trajectory3 simulate_3d(const Params& params, const Cone& cone, const State3& in
 
 /// simulate_3d of every initial state, out[i] from initial[i] (out.size() >= initial.size()): the
 /// same trajectories, bit for bit, faster, as several run side by side (their flights' face
-/// times are found together, cone_face_times). Once *cancel is set, no further run starts (the
-/// outputs of those not started are left as they were).
+/// times are found together, cone_face_times). Once *cancel is set, it returns at the runs' next
+/// event (the outputs of the runs not finished are left as they were).
 void simulate_3d_many(const Params& params, const Cone& cone, std::span<const State3> initial,
                       std::span<Trajectory3> out, const std::atomic<bool>* cancel = nullptr);
 

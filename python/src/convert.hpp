@@ -6,6 +6,11 @@
 #include <pybind11/pybind11.h>
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -40,10 +45,16 @@ py::list text_column(std::size_t n, Get get) {
 /// Runs `work(report)` without the GIL; every call of `report(done, total)` goes to `progress`
 /// (a Python callable, or None) and checks for Ctrl-C. Ctrl-C, or an error the callback raises,
 /// sets `cancel` (work that watches it stops early; later reports are dropped) and is raised
-/// once `work` returns.
+/// once `work` returns. The work runs in its own thread while this (the caller's) thread looks
+/// for Ctrl-C ten times a second: a unit of work may take seconds (a 3D ensemble's task of 128
+/// balls), and Python's signal handlers run only in its main thread.
 template <class Work>
 void run_reporting(const py::object& progress, std::atomic<bool>& cancel, Work work) {
-  std::optional<py::error_already_set> error;
+  std::optional<py::error_already_set> error;  // set with the GIL held
+  const auto fail = [&](py::error_already_set& e) {
+    if (!error) error.emplace(std::move(e));
+    cancel = true;
+  };
   const funnel::Progress report = [&](std::int64_t done, std::int64_t total) {
     if (cancel.load()) return;
     py::gil_scoped_acquire gil;
@@ -51,13 +62,41 @@ void run_reporting(const py::object& progress, std::atomic<bool>& cancel, Work w
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
       if (!progress.is_none()) progress(done, total);
     } catch (py::error_already_set& e) {
-      error.emplace(std::move(e));
-      cancel = true;
+      fail(e);
     }
   };
   {
     py::gil_scoped_release nogil;
-    work(report);
+    std::mutex m;
+    std::condition_variable finished_cv;
+    bool finished = false;
+    std::exception_ptr failure;
+    std::thread worker([&] {
+      try {
+        work(report);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(m);
+      finished = true;
+      finished_cv.notify_all();
+    });
+    std::unique_lock<std::mutex> lock(m);
+    while (!finished_cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return finished; })) {
+      if (cancel.load()) continue;
+      lock.unlock();
+      {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) {
+          py::error_already_set e;
+          fail(e);
+        }
+      }
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+    if (failure) std::rethrow_exception(failure);
   }
   if (error) throw *error;
 }

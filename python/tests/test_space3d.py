@@ -98,3 +98,24 @@ def test_3d_runs_report_progress_and_stop_on_ctrl_c():
     with pytest.raises(KeyboardInterrupt):
         funnel.ensemble(samples=200_000, space="3d", theta=60, velocity_sd=0.1, threads=1, progress=interrupt)
     assert time.monotonic() - start < 30
+
+
+def test_ctrl_c_interrupts_a_3d_ensemble_whose_tasks_take_long():
+    # Ctrl-C is noticed ten times a second, not only when a task of 128 balls ends, and a long
+    # integrated contact stops too: in this closed cone a few balls roll round the axis close
+    # to the vertex for seconds each (the whole run takes about 20 s).
+    import os
+    import signal
+    import threading
+    import time
+
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            funnel.ensemble(samples=400, space="3d", theta=50, e=0.9, mu=0.2, gap=0, t_max=60,
+                            velocity_sd=0.2, seed=9, threads=2)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 6
