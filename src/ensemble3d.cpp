@@ -117,8 +117,9 @@ std::vector<Ensemble3Result> run_sweep_3d(const std::vector<Params>& points, con
   // statistics, reduced in index order, so the grouping (and the thread count) changes no bit.
   const auto n_points = static_cast<std::int64_t>(points.size());
   const int n_threads = resolve_threads(options.threads);
+  const std::int64_t points_or_one = std::max<std::int64_t>(n_points, 1);
   const std::int64_t wanted = std::max((n + balls_per_task - 1) / balls_per_task,
-                                       (4 * n_threads + std::max<std::int64_t>(n_points, 1) - 1) / std::max<std::int64_t>(n_points, 1));
+                                       (4 * n_threads + points_or_one - 1) / points_or_one);
   const std::int64_t tasks_per_point = std::max<std::int64_t>(1, std::min(wanted, blocks_per_point));
   const std::int64_t n_tasks = n_points * tasks_per_point;
   const std::int64_t n_blocks = n_points * blocks_per_point;

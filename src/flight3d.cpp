@@ -232,7 +232,7 @@ void cone_face_times(const Cone& c, std::span<const State3> s, std::span<const F
   std::array<FaceIterate, max_face_lanes> f;
   if (simd_lanes() > 1) {
     // The fixed points in SIMD lanes (src/batch3d.cpp), each lane the scalar iteration's
-    // operations; then the fallback and the final check, one flight at a time.
+    // operations; the fallback and the final check below, one flight at a time.
     static_assert(max_face_lanes <= batch::max_flights);
     batch::FaceFlights lanes;
     const batch::FaceConstants k{c.g.sin_t, c.g.cos_t, c.g.x_face_end, c.g.y_face_end, c.g.closed, max_iterations};
@@ -261,27 +261,26 @@ void cone_face_times(const Cone& c, std::span<const State3> s, std::span<const F
     for (std::size_t i = 0; i < n; ++i) {
       f[i].t_best = lanes.t_best[i];
       f[i].fallback = lanes.fallback[i] != 0.0;
-      out[i] = start[i].skip_face ? never : face_finish(c, s[i], f[i]);
     }
-    return;
-  }
-  // The scalar engine: the flights' fixed points advance together, one iteration of each in
-  // turn; each is a chain of dependent square roots and divisions, and the processor overlaps
-  // the independent chains.
-  std::array<std::size_t, max_face_lanes> active{};
-  std::size_t m = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (start[i].skip_face) continue;
-    f[i] = face_start(s[i]);
-    active[m++] = i;
-  }
-  while (m > 0) {
-    std::size_t kept = 0;
-    for (std::size_t j = 0; j < m; ++j) {
-      const std::size_t i = active[j];
-      if (face_step(c, s[i], start[i], max_iterations, f[i])) active[kept++] = i;
+  } else {
+    // The scalar engine: the flights' fixed points advance together, one iteration of each in
+    // turn; each is a chain of dependent square roots and divisions, and the processor overlaps
+    // the independent chains.
+    std::array<std::size_t, max_face_lanes> active{};
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (start[i].skip_face) continue;
+      f[i] = face_start(s[i]);
+      active[m++] = i;
     }
-    m = kept;
+    while (m > 0) {
+      std::size_t kept = 0;
+      for (std::size_t j = 0; j < m; ++j) {
+        const std::size_t i = active[j];
+        if (face_step(c, s[i], start[i], max_iterations, f[i])) active[kept++] = i;
+      }
+      m = kept;
+    }
   }
   for (std::size_t i = 0; i < n; ++i) out[i] = start[i].skip_face ? never : face_finish(c, s[i], f[i]);
 }

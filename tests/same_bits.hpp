@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "funnel/engine.hpp"
+#include "funnel/engine3d.hpp"
 
 namespace funnel::test {
 
@@ -24,6 +25,23 @@ inline bool identical(const Trajectory& a, const Trajectory& b) {
          a.edge_collisions == b.edge_collisions && a.contacts == b.contacts && a.edge_contacts == b.edge_contacts &&
          same_bits(a.contact_time, b.contact_time) && a.stopped == b.stopped && a.stalled == b.stalled &&
          same_state(a.final_state, b.final_state) && same_state(a.exit_state, b.exit_state) && a.slid == b.slid;
+}
+
+inline bool same_vec(Vec3 a, Vec3 b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
+
+inline bool same_state(const State3& a, const State3& b) {
+  return same_vec(a.r, b.r) && same_vec(a.v, b.v) && same_vec(a.omega, b.omega);
+}
+
+/// Every field of two 3D trajectories the same, bit for bit.
+inline bool identical(const Trajectory3& a, const Trajectory3& b) {
+  return a.status == b.status && same_bits(a.duration, b.duration) && same_bits(a.impulse, b.impulse) &&
+         same_bits(a.normal_impulse, b.normal_impulse) && same_bits(a.energy_loss, b.energy_loss) &&
+         same_bits(a.energy_loss_events, b.energy_loss_events) && a.collisions == b.collisions &&
+         a.edge_collisions == b.edge_collisions && a.contacts == b.contacts && a.edge_contacts == b.edge_contacts &&
+         same_bits(a.contact_time, b.contact_time) && same_bits(a.orbits, b.orbits) && a.ode_steps == b.ode_steps &&
+         a.periodic == b.periodic && a.stopped == b.stopped && a.stalled == b.stalled &&
+         same_state(a.final_state, b.final_state) && same_state(a.exit_state, b.exit_state);
 }
 
 }  // namespace funnel::test

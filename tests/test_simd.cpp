@@ -284,22 +284,6 @@ TEST(Simd, OtherFunnelsRunOneTrajectoryAtATime) {
 
 // ---- The 3D engine: the face times of many flights at once (src/batch3d.cpp) ----
 
-bool same_vec(Vec3 a, Vec3 b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
-bool same_state3(const State3& a, const State3& b) {
-  return same_vec(a.r, b.r) && same_vec(a.v, b.v) && same_vec(a.omega, b.omega);
-}
-
-/// Every field of two 3D trajectories the same, bit for bit.
-bool same_trajectory3(const Trajectory3& a, const Trajectory3& b) {
-  return a.status == b.status && same_bits(a.duration, b.duration) && same_bits(a.impulse, b.impulse) &&
-         same_bits(a.normal_impulse, b.normal_impulse) && same_bits(a.energy_loss, b.energy_loss) &&
-         same_bits(a.energy_loss_events, b.energy_loss_events) && a.collisions == b.collisions &&
-         a.edge_collisions == b.edge_collisions && a.contacts == b.contacts && a.edge_contacts == b.edge_contacts &&
-         same_bits(a.contact_time, b.contact_time) && same_bits(a.orbits, b.orbits) && a.ode_steps == b.ode_steps &&
-         a.periodic == b.periodic && a.stopped == b.stopped && a.stalled == b.stalled &&
-         same_state3(a.final_state, b.final_state) && same_state3(a.exit_state, b.exit_state);
-}
-
 double uniform(std::uint64_t stream, std::uint64_t k, double lo, double hi) {
   return lo + (hi - lo) * (0.5 + 0.5 * std::erf(standard_normal(11, stream, k) / std::sqrt(2.0)));
 }
@@ -452,7 +436,7 @@ TEST(Simd, ManyThreeDimensionalTrajectoriesRunSideBySideAreEachTheSameBitsOnEver
       std::vector<Trajectory3> got(initial.size());
       simulate_3d_many(p, c, initial, got);
       for (std::size_t i = 0; i < initial.size(); ++i) {
-        ASSERT_TRUE(same_trajectory3(got[i], expected[i])) << k.name << ", path " << path << ", sample " << i;
+        ASSERT_TRUE(same_trajectory(got[i], expected[i])) << k.name << ", path " << path << ", sample " << i;
       }
     }
   }
@@ -485,7 +469,7 @@ TEST(Simd, ThreeDimensionalEnsemblesAreTheSameBitsOnEveryPath) {
   const Cone c = make_cone(p);
   for (std::size_t k = 0; k < results[0].per_sample.size(); ++k) {
     const Trajectory3 alone = simulate_3d(p, c, ensemble_release_3d(p, c, o, static_cast<std::int64_t>(k)));
-    for (const Ensemble3Result& r : results) ASSERT_TRUE(same_trajectory3(r.per_sample[k].trajectory, alone)) << k;
+    for (const Ensemble3Result& r : results) ASSERT_TRUE(same_trajectory(r.per_sample[k].trajectory, alone)) << k;
   }
   for (std::size_t i = 1; i < results.size(); ++i) {
     for (std::size_t o2 = 0; o2 < results[0].stats.size(); ++o2) {

@@ -27,4 +27,12 @@ inline ::testing::AssertionResult same_trajectory(const Trajectory& a, const Tra
                                        << " vs " << b.impulse << ", slid " << a.slid << " vs " << b.slid;
 }
 
+/// Every field of two 3D trajectories the same, bit for bit (identical), with a message if not.
+inline ::testing::AssertionResult same_trajectory(const Trajectory3& a, const Trajectory3& b) {
+  if (identical(a, b)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "duration " << a.duration << " vs " << b.duration << ", collisions "
+                                       << a.collisions << " vs " << b.collisions << ", impulse " << a.impulse
+                                       << " vs " << b.impulse << ", ode steps " << a.ode_steps << " vs " << b.ode_steps;
+}
+
 }  // namespace funnel::test
