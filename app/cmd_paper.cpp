@@ -181,6 +181,20 @@ struct PaperCommand {
     std::error_code ec;
     fs::create_directories(out, ec);
     if (ec || !fs::is_directory(out)) throw UsageError("invalid out = '" + out + "': cannot create the directory");
+    // Each figure's directory too, before any work: a file in the way (or no permission) is said
+    // at once, not after minutes of computing.
+    for (const FigureSpec& f : figs) {
+      const fs::path dir = fs::path(out) / f.id;
+      if (fs::exists(fs::symlink_status(dir)) && !fs::is_directory(dir)) {
+        throw UsageError("invalid out = '" + out + "': cannot create the directory '" + dir.string() +
+                         "': a file that is not a directory is in the way");
+      }
+      fs::create_directories(dir, ec);
+      if (ec || !fs::is_directory(dir)) {
+        throw UsageError("invalid out = '" + out + "': cannot create the directory '" + dir.string() + "'" +
+                         (ec ? ": " + ec.message() : ""));
+      }
+    }
 
     // Ensembles spread over the MPI ranks when run under mpirun (docs/cluster.md).
     SweepCache cache([](const std::vector<Params>& points, const EnsembleOptions& options, const Progress& progress) {
@@ -219,8 +233,7 @@ struct PaperCommand {
         meta["run_time_basis"] = {{"batch_time_s", sweep_time}, {"batch_collisions", sweep_collisions},
                                   {"figure_collisions", sweep_share.at(f.id)}};
       }
-      const std::string dir = (fs::path(out) / f.id).string();
-      fs::create_directories(dir);
+      const std::string dir = (fs::path(out) / f.id).string();  // created above
       write_output((fs::path(dir) / (f.id + ".csv")).string(), data.csv);
       write_output((fs::path(dir) / (f.id + ".json")).string(), meta.dump(2) + "\n");
       std::cerr << "funnel paper: " << f.id << " data written (" << static_cast<int>(run_time * 10) / 10.0 << " s)\n";

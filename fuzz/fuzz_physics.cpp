@@ -363,7 +363,8 @@ void check_mirror(const Trajectory& a, const Trajectory& b) {
 using funnel::test::identical;
 
 /// The releases `fractions` of p run together on every SIMD path give the scalar engine's
-/// trajectories bit for bit (the batched path of src/batch.cpp; other funnels run one at a time).
+/// trajectories bit for bit (the batched path of src/batch.cpp; funnels it cannot take run one at
+/// a time).
 void check_paths(const Params& p, const std::vector<double>& fractions) {
   const funnel::Funnel g = funnel::make_funnel(p);
   std::vector<funnel::State> initial;
@@ -499,6 +500,9 @@ void check_profile(FuzzedDataProvider& f, Params p) {
   Params mirror = p;
   mirror.profile = std::make_shared<funnel::ProfileSpec>(funnel::mirror_image(*spec));
   check_release(p, mirror, fraction, 5);
+  // The lanes take the flights between the top faces of a profile whose corners are all edges
+  // (src/engine.cpp batchable): the same bits as the scalar engine's, on every path.
+  check_paths(p, {fraction, 0.0 - fraction, 0.5 * fraction, 0.5 - 0.25 * fraction});
 }
 
 }  // namespace

@@ -459,22 +459,43 @@ Trajectory simulate(const Params& params, const Geometry&, const State& initial,
 
 namespace {
 
-/// The batched path runs a funnel whose walls are one straight face each, the top face of its
-/// wall (a V without a spout): open at the bottom, each face's region ending at its edge; or
-/// closed, the faces meeting at the vertex.
+/// The batched path runs the flights between the two walls' top faces above every edge arc (the
+/// lanes' fast path: src/flight.cpp's search, which then finds no edge and no exit). A funnel
+/// qualifies when each wall's top face is straight and rises towards the funnel (n_y > 0) with
+/// nothing above it, and either
+///  - it is a closed V: the two faces meet at the vertex (the lanes then check no region); or
+///  - it is open, every corner of its walls is an edge (convex), and every lower face lies
+///    wholly below the highest edge arc (skip_height): a V, a V with a spout, a profile that
+///    steepens towards its outlet. A flight that starts above skip_height and lands on a top
+///    face's region at or above it stays strictly above skip_height in between (its height is
+///    concave in time), so it cannot reach a lower face first: the earlier of the top faces is
+///    the event the scalar search finds, in the same operations.
 bool batchable(const Funnel& f) {
-  if (!f.one_face) return false;
   for (const Side& s : f.sides) {
-    if (s.faces.size() != 1 || s.faces[0].high_convex || !(s.faces[0].n.y > 0.0)) return false;
-    if (s.faces[0].low_convex == f.closed) return false;
+    const Face& top = s.faces.back();
+    if (top.high_convex || !(top.n.y > 0.0)) return false;
+    if (top.low_convex == f.closed) return false;
+  }
+  if (f.closed) return f.one_face;
+  for (const Side& s : f.sides) {
+    for (const Corner& c : s.corners) {
+      if (!c.convex) return false;
+    }
+    for (std::size_t k = 0; k + 1 < s.faces.size(); ++k) {
+      const Face& fc = s.faces[k];
+      if (!(std::fmax(fc.low.y, fc.high.y) < f.skip_height)) return false;
+    }
   }
   return true;
 }
 
+/// The index of a wall's top face: the lanes' faces.
+int top_face(const Funnel& f, Wall w) { return static_cast<int>(f.sides[w == Wall::Left ? 0 : 1].faces.size()) - 1; }
+
 batch::Constants batch_constants(const Params& params, const Funnel& f) {
   batch::Constants k{};
   for (int i = 0; i < 2; ++i) {
-    const Face& fc = f.sides[i].faces[0];
+    const Face& fc = f.sides[i].faces.back();
     const CollisionConstants& law = f.sides[i].law;
     k.side[i] = {fc.n.x,  fc.n.y,  fc.ref.x, fc.ref.y, fc.low.x, fc.low.y, fc.up.x, fc.up.y,
                  fc.low.y >= f.skip_height ? 1.0 : 0.0,
@@ -486,24 +507,24 @@ batch::Constants batch_constants(const Params& params, const Funnel& f) {
   k.p_c = params.p_c;
   k.max_collisions = static_cast<double>(params.max_collisions);
   k.closed = f.closed ? 1.0 : 0.0;
-  k.y_rest = f.closed ? f.sides[0].faces[0].low.y : 0.0;  // as Run's y_rest_
+  k.y_rest = f.closed ? f.sides[0].faces[0].low.y : 0.0;  // as Run's y_rest_ (a closed V: one face a side)
   k.eps_rest = params.eps_rest;
   k.spin_energy = 0.5 * params.inertia * params.radius * params.radius;
   return k;
 }
 
 /// The lanes' code of how a run's flight began.
-double start_code(const FlightStart& s) {
+double start_code(const Funnel& f, const FlightStart& s) {
   if (s.on_edge.has_value() || s.slow_edge.has_value() || s.skip_face.has_value() || s.skip_edge.has_value()) {
     return batch::start_other;
   }
   if (!s.on_face.has_value()) return batch::start_fresh;
-  if (s.on_face == WallPart{Wall::Left, 0}) return batch::start_left;
-  if (s.on_face == WallPart{Wall::Right, 0}) return batch::start_right;
+  if (s.on_face == WallPart{Wall::Left, top_face(f, Wall::Left)}) return batch::start_left;
+  if (s.on_face == WallPart{Wall::Right, top_face(f, Wall::Right)}) return batch::start_right;
   return batch::start_other;
 }
 
-void to_lane(Run::Lane r, batch::Lanes& l, int i, OrbitWatch* w) {
+void to_lane(const Funnel& f, Run::Lane r, batch::Lanes& l, int i, OrbitWatch* w) {
   l.rx[i] = r.state->r.x;
   l.ry[i] = r.state->r.y;
   l.vx[i] = r.state->v.x;
@@ -514,7 +535,7 @@ void to_lane(Run::Lane r, batch::Lanes& l, int i, OrbitWatch* w) {
   l.normal_impulse[i] = r.out->normal_impulse;
   l.energy_loss[i] = r.out->energy_loss_events;
   l.collisions[i] = static_cast<double>(r.out->collisions);
-  l.start[i] = start_code(*r.start);
+  l.start[i] = start_code(f, *r.start);
   l.slid[i] = r.out->slid ? 1.0 : 0.0;
   if (w != nullptr) {
     const OrbitWatch::Memory& m = w->memory();
@@ -529,7 +550,7 @@ void to_lane(Run::Lane r, batch::Lanes& l, int i, OrbitWatch* w) {
 }
 
 /// Copies lane i back into its run; returns the collisions the lane computed since it was filled.
-std::int64_t from_lane(const batch::Lanes& l, int i, Run::Lane r, OrbitWatch* w) {
+std::int64_t from_lane(const Funnel& f, const batch::Lanes& l, int i, Run::Lane r, OrbitWatch* w) {
   const auto collisions = static_cast<std::int64_t>(l.collisions[i]);
   const std::int64_t stepped = collisions - r.out->collisions;
   if (stepped == 0) return 0;  // not stepped in the lanes since it left them
@@ -543,8 +564,8 @@ std::int64_t from_lane(const batch::Lanes& l, int i, Run::Lane r, OrbitWatch* w)
   r.out->collisions = collisions;
   r.out->slid = l.slid[i] != 0.0;
   *r.start = FlightStart{};
-  if (l.start[i] == batch::start_left) r.start->on_face = WallPart{Wall::Left, 0};
-  if (l.start[i] == batch::start_right) r.start->on_face = WallPart{Wall::Right, 0};
+  if (l.start[i] == batch::start_left) r.start->on_face = WallPart{Wall::Left, top_face(f, Wall::Left)};
+  if (l.start[i] == batch::start_right) r.start->on_face = WallPart{Wall::Right, top_face(f, Wall::Right)};
   *r.stalled = 0;  // every step in the lanes advanced time
   if (w != nullptr) {
     OrbitWatch::Memory& m = w->memory();
@@ -589,7 +610,7 @@ std::int64_t run_many(const Params& params, const Funnel& f, std::span<const Sta
     sample[i] = next;
     runs[i].emplace(params, f, initial[next], watch_of(next), nullptr);
     ++next;
-    to_lane(runs[i]->lane(), lanes, i, watch_of(sample[i]));
+    to_lane(f, runs[i]->lane(), lanes, i, watch_of(sample[i]));
   };
   for (int i = 0; i < batch::max_lanes; ++i) lanes.start[i] = batch::start_idle;
   for (int i = 0; i < width; ++i) fill(i);
@@ -601,12 +622,12 @@ std::int64_t run_many(const Params& params, const Funnel& f, std::span<const Sta
       const int i = std::countr_zero(need);
       need &= need - 1;
       Run& run = *runs[i];
-      in_lanes += from_lane(lanes, i, run.lane(), watch_of(sample[i]));
+      in_lanes += from_lane(f, lanes, i, run.lane(), watch_of(sample[i]));
       if (run.step()) {
         out[sample[i]] = run.result();
         fill(i);
       } else {
-        to_lane(run.lane(), lanes, i, watch_of(sample[i]));
+        to_lane(f, run.lane(), lanes, i, watch_of(sample[i]));
       }
     }
   }

@@ -255,6 +255,15 @@ TEST_F(Cli, PaperQuickWritesEveryFigureAndEveryClaimHolds) {
   // The summary table names every figure with its verdict.
   EXPECT_EQ(r.output.find(" NO "), std::string::npos) << r.output;
   expect_rejected(run("paper --quick --only fig99 --out " + path("p2")), "only", "fig99");
+  // A file where a figure's directory goes is said before any work (it was an internal error,
+  // exit 1, once the θ sweeps had run), and nothing is written.
+  fs::create_directories(path("p3"));
+  write("p3/fig03", "not a directory\n");
+  const Result blocked = run("paper --quick --no-plots --only fig01,fig03 --out " + path("p3"));
+  expect_rejected(blocked, "out", "fig03");
+  EXPECT_NE(blocked.output.find("in the way"), std::string::npos) << blocked.output;
+  EXPECT_EQ(blocked.output.find("θ sweeps"), std::string::npos) << blocked.output;
+  EXPECT_FALSE(fs::exists(path("p3/fig01/fig01.csv")));
 }
 
 /// Starts `funnel ARGS` in the background, its stderr into `err`; returns its pid.

@@ -99,8 +99,10 @@ Trajectory simulate(const Params& params, const Geometry& g, const State& initia
                     Wear* wear = nullptr);
 
 /// Runs the trajectories from each initial state: out[k] is simulate(params, f, initial[k]), bit
-/// for bit. The trajectories of a V without a spout run together in the lanes of a SIMD vector
-/// (funnel/simd.hpp); those of any other funnel one at a time. out.size() >= initial.size().
+/// for bit. The trajectories run together in the lanes of a SIMD vector (funnel/simd.hpp) while
+/// they bounce between the walls' top faces above every edge, in a V (open or closed, with or
+/// without a spout) or a profile whose corners are all edges; those of any other funnel run one
+/// at a time. out.size() >= initial.size().
 /// Returns how many of the collisions were computed in SIMD lanes (0 on the scalar path).
 std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
                            std::span<Trajectory> out);
