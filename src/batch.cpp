@@ -90,6 +90,8 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   const V half = hn::Set(d, 0.5);
   const V inf = hn::Inf(d);
   const V skip = hn::Set(d, k.skip_height);
+  const bool low_landing = k.low_landing != 0.0;
+  const V y_exit = hn::Set(d, k.y_exit);
   const V t_max = hn::Set(d, k.t_max);
   const V p_c = hn::Set(d, k.p_c);
   const V max_collisions = hn::Set(d, k.max_collisions);
@@ -148,7 +150,21 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
       // On the face's region; above every edge arc, ending on a face above them (the search's
       // fast path). A closed V's faces reach the vertex: no region to check, no edge, no exit.
       common = hn::And(common, hn::Ge(along, zero));
-      common = hn::And(common, hn::And(hn::Gt(ry, skip), hn::Eq(select(first_left, left.low_ok, right.low_ok), one)));
+      const M low_ok = hn::Eq(select(first_left, left.low_ok, right.low_ok), one);
+      if (low_landing) {
+        // A face whose region reaches below the edge arcs: the search's slow path then finds no
+        // edge (the flight starts and ends strictly above every arc's top: edge_time's first
+        // test, on the same y_end = ay) and checks the exit (src/flight.cpp exit_time), which
+        // must come later than the face.
+        const V h = hn::Max(hn::Sub(ry, y_exit), zero);
+        const V exit_root = hn::Sqrt(hn::Add(hn::Mul(vy, vy), hn::Mul(hn::Set(d, 2.0), h)));
+        const V t_exit = select(hn::Ge(vy, zero), hn::Add(vy, exit_root),
+                                hn::Div(hn::Mul(hn::Set(d, 2.0), h), hn::Sub(exit_root, vy)));
+        const M high = hn::And(hn::Gt(ay, skip), hn::Gt(t_exit, dt));
+        common = hn::And(common, hn::And(hn::Gt(ry, skip), hn::Or(low_ok, high)));
+      } else {
+        common = hn::And(common, hn::And(hn::Gt(ry, skip), low_ok));
+      }
     }
     // Within the time cap, and time advances.
     common = hn::And(common, hn::And(hn::Le(new_time, t_max), hn::Gt(new_time, time)));

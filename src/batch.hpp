@@ -28,6 +28,11 @@ struct SideConstants {
 struct Constants {
   SideConstants side[2];  ///< left, right
   double skip_height;     ///< a flight starting above it meets no edge and no exit
+  // A face whose region reaches below skip_height (the steeper wall of an asymmetric V): a
+  // landing on it above skip_height is the common step too, once the exit (at y_exit) is shown
+  // to come later, as the scalar search's slow path checks it.
+  double low_landing;      ///< 1 if a side's low_ok is 0, else 0
+  double y_exit;
   double t_max, p_c, max_collisions;
   // A closed V: no region to check, no edge, no exit; a collision that leaves less than
   // eps_rest of energy above y_rest is the scalar engine's (rest).

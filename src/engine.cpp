@@ -503,6 +503,8 @@ batch::Constants batch_constants(const Params& params, const Funnel& f) {
                  law.half_1_minus_e2, law.half_reduced, law.radius};
   }
   k.skip_height = f.skip_height;
+  k.low_landing = k.side[0].low_ok == 0.0 || k.side[1].low_ok == 0.0 ? 1.0 : 0.0;
+  k.y_exit = f.y_exit;
   k.t_max = params.t_max;
   k.p_c = params.p_c;
   k.max_collisions = static_cast<double>(params.max_collisions);
