@@ -97,6 +97,7 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   const V max_collisions = hn::Set(d, k.max_collisions);
   const V code_left = hn::Set(d, start_left);
   const V code_right = hn::Set(d, start_right);
+  const V code_fresh = hn::Set(d, start_fresh);
   const bool closed = k.closed != 0.0;
   const bool watch = k.watch != 0.0;
   const V y_rest = hn::Set(d, k.y_rest), eps_rest = hn::Set(d, k.eps_rest), spin_energy = hn::Set(d, k.spin_energy);
@@ -117,24 +118,29 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
 
   std::uint32_t need = 0;
   for (;;) {
-    // Only a flight that began on one face's line (FlightStart with on_face alone) is the
-    // common case; a release's first flight is the scalar engine's.
+    // A flight that began on one face's line (FlightStart with on_face alone), or a release's
+    // first flight (nothing set), is the common case.
     const M on_left = hn::Eq(start, code_left);
-    const M simple = hn::Or(on_left, hn::Eq(start, code_right));
+    const M on_right = hn::Eq(start, code_right);
+    const M fresh = hn::And(busy, hn::Eq(start, code_fresh));
+    const M simple = hn::Or(hn::Or(on_left, on_right), fresh);
     // The two faces' line times (src/flight.cpp line_time): distance 0 on the face just left;
-    // only the other face needs the square root.
+    // only the other face needs the square root, but both do for a release.
     const V p_left = hn::Add(hn::Mul(vx, left.nx), hn::Mul(vy, left.ny));
     const V p_right = hn::Add(hn::Mul(vx, right.nx), hn::Mul(vy, right.ny));
     const V dist_left = hn::Add(hn::Mul(left.nx, hn::Sub(rx, left.refx)), hn::Mul(left.ny, hn::Sub(ry, left.refy)));
     const V dist_right =
         hn::Add(hn::Mul(right.nx, hn::Sub(rx, right.refx)), hn::Mul(right.ny, hn::Sub(ry, right.refy)));
     const V delta_left = select(on_left, zero, dist_left);
-    const V delta_right = select(on_left, dist_right, zero);
-    const V root = hn::Sqrt(select(on_left, line_root_argument(d, delta_right, p_right, right.ny),
-                                   line_root_argument(d, delta_left, p_left, left.ny)));
+    const V delta_right = select(on_right, zero, dist_right);
+    const V arg_right = line_root_argument(d, delta_right, p_right, right.ny);
+    const V root = hn::Sqrt(select(on_left, arg_right, line_root_argument(d, delta_left, p_left, left.ny)));
+    // The right face's root: `root` after the left face, its own after a release (a second
+    // square root only in the rounds that hold one).
+    const V root_right = hn::AllFalse(d, fresh) ? root : select(fresh, hn::Sqrt(arg_right), root);
     M ok_left, ok_right;
     const V t_left = line_time(d, delta_left, p_left, left.ny, root, ok_left);
-    const V t_right = line_time(d, delta_right, p_right, right.ny, root, ok_right);
+    const V t_right = line_time(d, delta_right, p_right, right.ny, root_right, ok_right);
     // The earlier line, the left one on a tie; its face's region must be reached.
     const M first_left = hn::Le(t_left, t_right);
     const V dt = select(first_left, t_left, t_right);

@@ -146,6 +146,32 @@ TEST(Simd, EveryPathGivesTheScalarEnginesTrajectoriesBitForBit) {
   }
 }
 
+TEST(Simd, AReleasesFirstFlightRunsInTheLanes) {
+  // With a cap of two collisions the lanes can take only a release's first flight (the second
+  // collision reaches the cap, which is the scalar engine's): each release lands on a face
+  // above the edges, so each first collision is the lanes'.
+  for (const double theta : {20.0, 60.0}) {
+    Params p;
+    p.theta = p.theta_left = p.theta_right = theta;
+    p.max_collisions = 2;
+    const Funnel f = make_funnel(p);
+    const std::vector<State> initial = releases(p, f, 203, 0.0);
+    for (const std::string& path : simd_paths()) {
+      if (path == "scalar") continue;
+      const PathScope scope(path);
+      std::vector<Trajectory> got(initial.size());
+      const std::int64_t in_lanes = simulate_many(p, f, initial, got);
+      std::int64_t landed = 0;  // all but the releases over the gap, which fall through
+      for (std::size_t k = 0; k < initial.size(); ++k) {
+        ASSERT_TRUE(same_trajectory(got[k], simulate(p, f, initial[k]))) << path << ", sample " << k;
+        if (got[k].collisions > 0) ++landed;
+      }
+      EXPECT_GT(landed, 190) << theta;
+      EXPECT_EQ(in_lanes, landed) << path << ", theta " << theta;
+    }
+  }
+}
+
 TEST(Simd, AVWithAMaterialPerWallIsTheSameBitsOnEveryPath) {
   // A one-segment wall profile per side (a V) with its own e and mu on each wall: the lanes
   // take each collision's law from the wall hit.
