@@ -1,11 +1,12 @@
-// The batched face-to-face step: trajectories of one V funnel in the lanes of a SIMD vector, with
-// run-time dispatch to the widest instruction set of the CPU (Highway: SSE4, AVX2, AVX-512).
-// Each lane computes exactly what the scalar engine computes for its trajectory (src/flight.cpp
-// search<true>, src/engine.cpp's event loop and face collision, src/walton.cpp): the same IEEE
-// operations in the same order, no contraction into fused multiply-adds (-ffp-contract=off),
-// division and square root correctly rounded in every lane. Lanes whose next event is anything
-// else (an edge, the exit, a collapse, a cap, a flight that starts off a face) go back to the
-// scalar engine for that event.
+// The batched face-to-face step: trajectories of one funnel in the lanes of a SIMD vector, with
+// run-time dispatch to the widest instruction set of the CPU (Highway: SSE4, AVX2, AVX-512), for
+// their flights between the walls' top faces above every edge (src/engine.cpp batchable says
+// which funnels qualify). Each lane computes exactly what the scalar engine computes for its
+// trajectory (src/flight.cpp search, src/engine.cpp's event loop and face collision,
+// src/walton.cpp): the same IEEE operations in the same order, no contraction into fused
+// multiply-adds (-ffp-contract=off), division and square root correctly rounded in every lane.
+// Lanes whose next event is anything else (an edge, the exit, a collapse, a cap, a flight that
+// starts on an edge or leaves a face tangentially) go back to the scalar engine for that event.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "batch.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h

@@ -1,4 +1,4 @@
-// The batched face-to-face step (internal to the library): many trajectories of one V funnel in
+// The batched face-to-face step (internal to the library): many trajectories of one funnel in
 // the lanes of a SIMD vector. See src/batch.cpp for the kernel and src/engine.cpp for the driver.
 #pragma once
 
