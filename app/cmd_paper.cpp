@@ -28,6 +28,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// Creates `dir` and its parents, or throws the usage error naming --out and why it cannot.
+void create_directory(const std::string& out, const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!ec && fs::is_directory(dir)) return;
+  const bool in_the_way = fs::exists(fs::symlink_status(dir)) && !fs::is_directory(dir);
+  throw UsageError("invalid out = '" + out + "': cannot create the directory '" + dir.string() + "': " +
+                   (in_the_way ? std::string("a file that is not a directory is in the way") : ec.message()));
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -178,23 +188,10 @@ struct PaperCommand {
       }
       figs = chosen;
     }
-    std::error_code ec;
-    fs::create_directories(out, ec);
-    if (ec || !fs::is_directory(out)) throw UsageError("invalid out = '" + out + "': cannot create the directory");
-    // Each figure's directory too, before any work: a file in the way (or no permission) is said
-    // at once, not after minutes of computing.
-    for (const FigureSpec& f : figs) {
-      const fs::path dir = fs::path(out) / f.id;
-      if (fs::exists(fs::symlink_status(dir)) && !fs::is_directory(dir)) {
-        throw UsageError("invalid out = '" + out + "': cannot create the directory '" + dir.string() +
-                         "': a file that is not a directory is in the way");
-      }
-      fs::create_directories(dir, ec);
-      if (ec || !fs::is_directory(dir)) {
-        throw UsageError("invalid out = '" + out + "': cannot create the directory '" + dir.string() + "'" +
-                         (ec ? ": " + ec.message() : ""));
-      }
-    }
+    // The output directory and each figure's, before any work: a file in the way (or no
+    // permission) is said at once, not after minutes of computing.
+    create_directory(out, out);
+    for (const FigureSpec& f : figs) create_directory(out, fs::path(out) / f.id);
 
     // Ensembles spread over the MPI ranks when run under mpirun (docs/cluster.md).
     SweepCache cache([](const std::vector<Params>& points, const EnsembleOptions& options, const Progress& progress) {

@@ -89,6 +89,7 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   const V one = hn::Set(d, 1.0);
   const V minus_one = hn::Set(d, -1.0);
   const V half = hn::Set(d, 0.5);
+  const V two = hn::Set(d, 2.0);
   const V inf = hn::Inf(d);
   const V skip = hn::Set(d, k.skip_height);
   const bool low_landing = k.low_landing != 0.0;
@@ -123,7 +124,7 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
     // first flight (nothing set), is the common case.
     const M on_left = hn::Eq(start, code_left);
     const M on_right = hn::Eq(start, code_right);
-    const M fresh = hn::And(busy, hn::Eq(start, code_fresh));
+    const M fresh = hn::Eq(start, code_fresh);  // (an idle lane has its own code)
     const M simple = hn::Or(hn::Or(on_left, on_right), fresh);
     // The two faces' line times (src/flight.cpp line_time): distance 0 on the face just left;
     // only the other face needs the square root, but both do for a release.
@@ -164,9 +165,8 @@ std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
         // test, on the same y_end = ay) and checks the exit (src/flight.cpp exit_time), which
         // must come later than the face.
         const V h = hn::Max(hn::Sub(ry, y_exit), zero);
-        const V exit_root = hn::Sqrt(hn::Add(hn::Mul(vy, vy), hn::Mul(hn::Set(d, 2.0), h)));
-        const V t_exit = select(hn::Ge(vy, zero), hn::Add(vy, exit_root),
-                                hn::Div(hn::Mul(hn::Set(d, 2.0), h), hn::Sub(exit_root, vy)));
+        const V exit_root = hn::Sqrt(hn::Add(hn::Mul(vy, vy), hn::Mul(two, h)));
+        const V t_exit = select(hn::Ge(vy, zero), hn::Add(vy, exit_root), hn::Div(hn::Mul(two, h), hn::Sub(exit_root, vy)));
         const M high = hn::And(hn::Gt(ay, skip), hn::Gt(t_exit, dt));
         common = hn::And(common, hn::And(hn::Gt(ry, skip), hn::Or(low_ok, high)));
       } else {

@@ -68,8 +68,8 @@ struct Lanes {
 };
 
 /// Steps every busy lane through flight and face collision for as long as each lane's next event
-/// is the common one: a flight from a face (or a release) to a face above the edges, ending in a collision that leaves
-/// a normal speed of at least p_c, within the time and collision caps. Returns the bit mask of
+/// is the common one: a flight from a face (or a release) to a face above the edges, ending in a
+/// collision that leaves a normal speed of at least p_c, within the time and collision caps. Returns the bit mask of
 /// busy lanes whose next event is not (they were not stepped by the last round): the scalar
 /// engine takes them. Lanes [0, width()) are used. Every operation is the scalar engine's, in
 /// its order (IEEE-exact in each lane), so the results are the same bits.
