@@ -68,8 +68,8 @@ def test_svg_output_is_reproducible(dataset, tmp_path):
 
 def test_each_picture_is_laid_out_once_and_drawn_once_per_file(dataset, tmp_path, monkeypatch):
     # savefig with a layout engine draws twice (a draw without output to lay the figure out,
-    # then the file's); the SVG keeps the PNG's layout, so it is drawn once: three draws in all
-    # ("none" instead of None as the engine made it four, a third of the SVG's time).
+    # then the file's); render runs the layout alone (plot.lay_out) and draws each file once:
+    # two draws in all, neither with an engine (three before lay_out, four with "none").
     outdir, _ = dataset
     copy = tmp_path / "fig03"
     shutil.copytree(outdir / "fig03", copy)
@@ -84,10 +84,30 @@ def test_each_picture_is_laid_out_once_and_drawn_once_per_file(dataset, tmp_path
 
     monkeypatch.setattr(plot, "plot_figure", counted)
     plot.render(copy)
-    assert len(figures) == 1 and len(draws) == 3
-    assert draws[0] is not None and draws[2] is None  # laid out for the PNG, kept for the SVG
+    assert len(figures) == 1 and draws == [None, None]
     for ext in ("png", "svg"):  # the same pictures as main() drew
         assert (copy / f"fig03.{ext}").read_bytes() == (outdir / "fig03" / f"fig03.{ext}").read_bytes(), ext
+
+
+def test_the_layout_alone_gives_savefigs_own_pictures_byte_for_byte(dataset, tmp_path):
+    # plot.lay_out stands in for the layout pass savefig makes with the constrained-layout engine:
+    # every kind's PNG and SVG must be the bytes savefig writes with the engine left on (the
+    # PNG's layout kept for the SVG). A matplotlib whose pass differs fails here.
+    import matplotlib
+    outdir, dirs = dataset
+    laid_out = 0
+    for d in dirs:
+        meta, columns = plot.load_figure(d)
+        fig = plot.plot_figure(meta, columns)
+        laid_out += fig.get_layout_engine() is not None
+        with matplotlib.rc_context(plot.STYLE):
+            fig.savefig(tmp_path / "own.png", format="png", metadata={"Software": None})
+            fig.set_layout_engine(None)
+            fig.savefig(tmp_path / "own.svg", format="svg", metadata={"Date": None, "Creator": None})
+        for ext in ("png", "svg"):
+            own = (tmp_path / f"own.{ext}").read_bytes()
+            assert own == (d / f"{d.name}.{ext}").read_bytes(), f"{d.name}.{ext}"
+    assert laid_out == len(dirs)
 
 
 def test_figures_drawn_in_parallel_are_those_drawn_one_by_one(dataset, tmp_path):
