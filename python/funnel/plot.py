@@ -590,24 +590,25 @@ def lay_out(fig):
     With an engine, savefig first draws the whole figure without output (to lay it out), then
     draws it into the file. Here only the layout runs, at the PNG's resolution (the text's extents
     depend on it) on an Agg canvas, as savefig's own pass does; both files are then drawn once
-    each. None, not "none": "none" leaves a placeholder engine, with which savefig still draws the
-    figure once without output. The PNG and SVG are the same bytes as savefig's with the engine
-    (tests/python/test_plot.py compares them), in a tenth less time.
+    each. The Agg canvas stays: the PNG is drawn by the renderer that laid the figure out, which
+    has measured its texts already (matplotlib caches their extents by renderer). None, not
+    "none": "none" leaves a placeholder engine, with which savefig still draws the figure once
+    without output. The PNG and SVG are the same bytes as savefig's with the engine
+    (python/tests/test_plot.py compares them), in 10–15% less time.
     """
     import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     engine = fig.get_layout_engine()
     if engine is None:
         return
-    canvas, dpi = fig.canvas, fig.get_dpi()
+    dpi = fig.get_dpi()
     saved_dpi = matplotlib.rcParams["savefig.dpi"]
-    FigureCanvasAgg(fig)  # attaches itself to fig
+    FigureCanvasAgg(fig)  # attaches itself to fig, and stays: the PNG is drawn with its renderer
     fig.set_dpi(dpi if saved_dpi == "figure" else saved_dpi)
     try:
         engine.execute(fig)
     finally:
         fig.set_dpi(dpi)
-        fig.set_canvas(canvas)
     fig.set_layout_engine(None)
 
 
