@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -79,9 +81,11 @@ struct Surface {
   bool torus = false;
   double sin_t = 0.0, cos_t = 0.0, R = 0.0, y_b = 0.0, a = 0.0, kappa = 0.4, mu = 0.0;
 
-  Kin kin(const Y& y) const {
+  Kin kin(const Y& y) const { return kin(y, std::cos(y[PHI]), std::sin(y[PHI])); }
+
+  /// kin(y) given c = cos(y[PHI]) and s = sin(y[PHI]).
+  Kin kin(const Y& y, double c, double s) const {
     Kin k;
-    const double c = std::cos(y[PHI]), s = std::sin(y[PHI]);
     const Vec3 e_rho{c, 0.0, -s}, up{0.0, 1.0, 0.0};
     k.e_phi = {-s, 0.0, -c};
     if (!torus) {
@@ -143,8 +147,9 @@ struct Surface {
     return (-mu * k.normal) * dir;
   }
 
-  void rhs(const Y& y, Y& dy, Mode mode, Vec3 d) const {
-    const Kin k = kin(y);
+  /// The equations of motion at y, given c = cos(y[PHI]) and s = sin(y[PHI]).
+  void rhs(const Y& y, Y& dy, Mode mode, Vec3 d, double c, double s) const {
+    const Kin k = kin(y, c, s);
     const Vec3 f = friction(k, y, mode, d);
     dy[Q] = y[QD];
     dy[PHI] = k.phi_dot;
@@ -303,7 +308,7 @@ class Integrated {
     constexpr double off = 1.0;  // the value of an event function that does not apply
     Events e;
     e.f.fill(off);
-    const Kin k = sf_.kin(y);
+    const Kin k = kin_at(y);
     if (!sf_.torus) {
       if (!cone_.g.closed) e.f[0] = y[Q] - q_end_;
     } else {
@@ -326,10 +331,25 @@ class Integrated {
     return e;
   }
 
+  /// kin(y), with the sine and cosine of the azimuth of the last evaluation of the equations of
+  /// motion when that was at y's azimuth (compared as bits): the state at the end of a step, whose
+  /// equations the stepper evaluates last (first same as last), is scanned for events and, while
+  /// sliding, checked for the slip's size at the next step's start.
+  Kin kin_at(const Y& y) const {
+    const bool same = have_last_ && std::bit_cast<std::uint64_t>(y[PHI]) == std::bit_cast<std::uint64_t>(last_phi_);
+    return same ? sf_.kin(y, last_cos_, last_sin_) : sf_.kin(y);
+  }
+
   /// Integrates one phase from (y, t) in `mode` until a stopping event or the budget; returns why.
   Stop phase(Y& y, double& t, Mode mode, double& dt) {
     auto stepper = odeint::make_dense_output(opt_.abs_tol, opt_.rel_tol, odeint::runge_kutta_dopri5<Y>());
-    auto system = [&](const Y& x, Y& dx, double) { sf_.rhs(x, dx, mode, reference_); };
+    auto system = [&](const Y& x, Y& dx, double) {
+      have_last_ = true;
+      last_phi_ = x[PHI];
+      last_cos_ = std::cos(last_phi_);
+      last_sin_ = std::sin(last_phi_);
+      sf_.rhs(x, dx, mode, reference_, last_cos_, last_sin_);
+    };
     stepper.initialize(y, t, dt);
     Events prev = events(y, mode);
     // A boundary of the surface (C*, the outlet's level) that the contact starts on, within
@@ -348,7 +368,7 @@ class Integrated {
     for (;;) {
       if (mode != Mode::Free && mode != Mode::Rolling) {
         const Y& x = stepper.current_state();
-        const Kin k = sf_.kin(x);
+        const Kin k = kin_at(x);
         const Vec3 s = sf_.slip(k, x);
         const double size = norm(s);
         if (mode == Mode::Onset) {
@@ -476,6 +496,9 @@ class Integrated {
   const Contact3Options& opt_;
   double q_end_ = 0.0, psi_top_ = 0.0;
   Vec3 reference_;
+  // The azimuth of the last evaluation of the equations of motion, its cosine and sine.
+  bool have_last_ = false;
+  double last_phi_ = 0.0, last_cos_ = 0.0, last_sin_ = 0.0;
   Contact3Result res_;
 };
 
