@@ -566,6 +566,11 @@ def plot_figure(meta, columns):
         return PLOTTERS[kind](meta, columns)
 
 
+#: The files of a figure, and the metadata savefig leaves out of each (no version or date: the
+#: same data give the same bytes).
+FORMATS = (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None}))
+
+
 def render(figdir):
     """Draws ``figdir/figNN.{png,svg}`` from ``figdir/figNN.{json,csv}``; returns (meta, [paths])."""
     import matplotlib
@@ -576,7 +581,7 @@ def render(figdir):
     paths = []
     with matplotlib.rc_context(STYLE):
         lay_out(fig)
-        for ext, metadata in (("png", {"Software": None}), ("svg", {"Date": None, "Creator": None})):
+        for ext, metadata in FORMATS:
             path = figdir / f"{figdir.name}.{ext}"
             with replacing(path, hidden=False) as tmp:  # never a partial image, nor a stray temporary
                 fig.savefig(tmp, format=ext, metadata=metadata)

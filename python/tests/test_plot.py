@@ -101,10 +101,10 @@ def test_the_layout_alone_gives_savefigs_own_pictures_byte_for_byte(dataset, tmp
         fig = plot.plot_figure(meta, columns)
         laid_out += fig.get_layout_engine() is not None
         with matplotlib.rc_context(plot.STYLE):
-            fig.savefig(tmp_path / "own.png", format="png", metadata={"Software": None})
-            fig.set_layout_engine(None)
-            fig.savefig(tmp_path / "own.svg", format="svg", metadata={"Date": None, "Creator": None})
-        for ext in ("png", "svg"):
+            for ext, metadata in plot.FORMATS:
+                fig.savefig(tmp_path / f"own.{ext}", format=ext, metadata=metadata)
+                fig.set_layout_engine(None)  # the PNG's layout kept for the SVG
+        for ext, _ in plot.FORMATS:
             own = (tmp_path / f"own.{ext}").read_bytes()
             assert own == (d / f"{d.name}.{ext}").read_bytes(), f"{d.name}.{ext}"
     assert laid_out == len(dirs)

@@ -7,14 +7,21 @@ set -euo pipefail
 bin=${1:-build/funnel}
 out=$(dirname "$0")/golden_trajectories.csv
 tmp=$(mktemp)
-first=1
-while read -r args; do
-  [ -z "$args" ] && continue
-  # shellcheck disable=SC2086
-  "$bin" trajectory $args --format csv > "$tmp.row"
-  if [ $first = 1 ]; then head -1 "$tmp.row" > "$tmp"; first=0; fi
-  tail -1 "$tmp.row" >> "$tmp"
-done <<'CASES'
+# record FILE [ARGS...]: one row per line of standard input (`funnel trajectory ARGS LINE`), under
+# the header of the first, written to FILE.
+record() {
+  local file=$1 first=1 args
+  shift
+  while read -r args; do
+    [ -z "$args" ] && continue
+    # shellcheck disable=SC2086
+    "$bin" trajectory "$@" $args --format csv > "$tmp.row"
+    if [ $first = 1 ]; then head -1 "$tmp.row" > "$tmp"; first=0; fi
+    tail -1 "$tmp.row" >> "$tmp"
+  done
+  mv "$tmp" "$file"
+}
+record "$out" <<'CASES'
 --theta 60 --release 0.3
 --theta 60 --release -0.777
 --theta 46 --release 0.1
@@ -36,7 +43,6 @@ done <<'CASES'
 --theta 50 --e 1 --mu 0.1 --gap 0 --max-collisions 5000 --release 0.3
 --theta 30 --e 1 --mu 0 --gap 0 --t-max 200 --release -0.6
 CASES
-mv "$tmp" "$out"
 
 # The 3D engine (--space 3d): golden_3d.csv, the same way. Off-plane releases whose contacts on the
 # cone's face and on the rim are integrated (sliding, rolling, a hundred face-rim hand-overs, a
@@ -44,14 +50,7 @@ mv "$tmp" "$out"
 # samples of fig3d's ensembles (θ = 44° and 60°, σ = 0.03 and 0.1) whose results move when an
 # event is scanned with the wrong frame. test_golden.cpp requires them to 1e-10 relative.
 out3=$(dirname "$0")/golden_3d.csv
-first=1
-while read -r args; do
-  [ -z "$args" ] && continue
-  # shellcheck disable=SC2086
-  "$bin" trajectory --space 3d $args --format csv > "$tmp.row"
-  if [ $first = 1 ]; then head -1 "$tmp.row" > "$tmp"; first=0; fi
-  tail -1 "$tmp.row" >> "$tmp"
-done <<'CASES'
+record "$out3" --space 3d <<'CASES'
 --theta 60 --release 0.7 --release-u 0.02 --release-w 0.03 --t-max 100
 --theta 60 --release 0.95 --release-u 0.1 --release-w 0.1 --t-max 100
 --theta 50 --release 0.99 --release-u 0.05 --release-w 0.05 --t-max 300
@@ -65,6 +64,5 @@ done <<'CASES'
 --theta 60 --release 0.9135781302110947 --release-u -0.014701653516740664 --release-w 0.02945866742283339 --t-max 300
 --theta 60 --release 0.8435786863120712 --release-u -0.05312964270381368 --release-w -0.11207927886186389 --t-max 300
 CASES
-mv "$tmp" "$out3"
 rm -f "$tmp.row"
 echo "wrote $out ($(($(wc -l < "$out") - 1)) cases)"
