@@ -22,17 +22,41 @@ Params frictionless(const Params& params) {
   return p;
 }
 
+namespace detail {
+
+bool atan2_negative(double y, double x) {
+  // Where |y| is not tiny next to |x| (both finite, y not 0), atan2 is at least about 2^-900 in
+  // size, so not 0, and has y's sign.
+  if (y != 0.0 && std::isfinite(y) && std::isfinite(x) && std::fabs(y) >= 0x1p-900 * std::fabs(x)) return y < 0.0;
+  return std::atan2(y, x) < 0.0;
+}
+
+}  // namespace detail
+
 namespace {
 
 /// Unit tangent of a wall pointing up the wall, mirror symmetric: left (-cos, sin), right (cos, sin).
 Vec2 up_tangent(const Geometry& g, Wall wall) { return {wall_sign(wall) * g.cos_t, g.sin_t}; }
 
+/// A turn angle as the arguments (y, x) of its atan2: computed only where its value is needed (a
+/// scan compares most of them only by sign, and a refinement needs one collision's of each run).
+struct AngleArgs {
+  double y, x;
+  double value() const { return std::atan2(y, x); }
+  bool negative() const { return detail::atan2_negative(y, x); }
+};
+
+/// The turn angles of a face collision.
+struct Turns {
+  AngleArgs wall;  ///< of the incoming velocity to the wall normal, (-pi/2, pi/2)
+  AngleArgs rest;  ///< of the outgoing velocity to the upward vertical, (-pi, pi]
+};
+
 /// The first collisions of a release: their events, walls and turn angles.
 struct Probe {
   std::vector<Event> hits;  ///< face collisions, in order, up to the first other event
   std::string sequence;     ///< 'L'/'R' per face collision
-  std::vector<double> wall_angle;  ///< angle of the incoming velocity to the wall normal, (-pi/2, pi/2)
-  std::vector<double> rest_angle;  ///< angle of the outgoing velocity to the upward vertical, (-pi, pi]
+  std::vector<Turns> turns;  ///< per face collision
 };
 
 /// Keeps the face collisions of a run up to its first other event, and ends the run there.
@@ -49,8 +73,7 @@ class ProbeSink final : public EventSink {
     const Vec2 tau = up_tangent(g_, *e.wall);
     out_.hits.push_back(e);
     out_.sequence += *e.wall == Wall::Left ? 'L' : 'R';
-    out_.wall_angle.push_back(std::atan2(dot(e.velocity_before, tau), -dot(e.velocity_before, n)));
-    out_.rest_angle.push_back(std::atan2(e.velocity_after.x, e.velocity_after.y));
+    out_.turns.push_back({{dot(e.velocity_before, tau), -dot(e.velocity_before, n)}, {e.velocity_after.x, e.velocity_after.y}});
   }
   bool finished() const override { return done_; }
 
@@ -67,16 +90,18 @@ Probe probe(const Params& p, const Geometry& g, const Funnel& f, double fraction
   const auto n = static_cast<std::size_t>(std::max(k, 0));
   out.hits.reserve(n);
   out.sequence.reserve(n);
-  out.wall_angle.reserve(n);
-  out.rest_angle.reserve(n);
+  out.turns.reserve(n);
   ProbeSink sink(g, out);
   simulate_release(q, f, fraction, &sink);
   return out;
 }
 
-double turn_angle(const Probe& pr, Turn turn, int k) {
-  return turn == Turn::Wall ? pr.wall_angle[k - 1] : pr.rest_angle[k - 1];
+const AngleArgs& turn_args(const Probe& pr, Turn turn, int k) {
+  const Turns& t = pr.turns[static_cast<std::size_t>(k - 1)];
+  return turn == Turn::Wall ? t.wall : t.rest;
 }
+
+double turn_angle(const Probe& pr, Turn turn, int k) { return turn_args(pr, turn, k).value(); }
 
 /// A sign change of the turn angle of collision k between two releases with the same first k walls.
 struct Bracket {
@@ -91,6 +116,13 @@ struct Bracket {
 bool crosses(Turn turn, double a, double b) {
   if ((a < 0.0) == (b < 0.0)) return false;
   return turn == Turn::Wall || std::fabs(a) + std::fabs(b) < std::numbers::pi;
+}
+
+/// crosses() for collision k of two probes, their angles computed only where the signs differ.
+bool crosses(Turn turn, const Probe& pa, const Probe& pb, int k) {
+  const AngleArgs &a = turn_args(pa, turn, k), &b = turn_args(pb, turn, k);
+  if (a.negative() == b.negative()) return false;
+  return crosses(turn, a.value(), b.value());
 }
 
 /// Number of leading collisions on which two probes agree.
@@ -111,7 +143,7 @@ class Search {
     for (int k = k_min; k <= agree; ++k) {
       for (const Turn turn : {Turn::Wall, Turn::Rest}) {
         if (turn == Turn::Rest && !opt_.rest_turns) continue;
-        if (crosses(turn, turn_angle(pa, turn, k), turn_angle(pb, turn, k))) {
+        if (crosses(turn, pa, pb, k)) {
           out.push_back({a, b, k, turn, pa.sequence.substr(0, static_cast<std::size_t>(k))});
         }
       }
@@ -200,7 +232,8 @@ class Search {
     const double residual = std::fabs(turn_angle(pr, br.turn, br.k));
     if (!(residual <= opt_.accept_angle)) return std::nullopt;
     for (int j = 1; j < br.k; ++j) {  // an earlier turn: this is a shorter orbit, repeated
-      if (std::fabs(pr.wall_angle[j - 1]) < opt_.repeat_angle || std::fabs(pr.rest_angle[j - 1]) < opt_.repeat_angle) {
+      if (std::fabs(turn_angle(pr, Turn::Wall, j)) < opt_.repeat_angle ||
+          std::fabs(turn_angle(pr, Turn::Rest, j)) < opt_.repeat_angle) {
         return std::nullopt;
       }
     }

@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include "funnel/geometry.hpp"
 #include "funnel/retrace.hpp"
@@ -270,6 +273,25 @@ TEST(Retrace, WindowsAreMaximalRunsOfGridAngles) {
   EXPECT_TRUE(w[3].stable);
   EXPECT_EQ(w[3].theta_from, 54);
   EXPECT_EQ(w[4].sequence, "LRL");
+}
+
+TEST(Retrace, SignOfATurnAngleIsTheSignOfItsAtan2) {
+  // The scan compares turn angles by sign without atan2 where it can: the same answer everywhere,
+  // signed zeros, angles that underflow, infinities and NaN included.
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> values{0.0, -0.0, 1.0, -1.0, 0x1p-1074, -0x1p-1074, 0x1p-1022, -0x1p-1022, 1e-300, -1e-300,
+                             1e300, -1e300, 0x1p-900, -0x1p-900, inf, -inf, nan, 0.3, -2.5};
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-1100.0, 1100.0);
+  for (int i = 0; i < 2000; ++i) values.push_back(std::ldexp(u(rng), static_cast<int>(e(rng))));
+  int checked = 0;
+  for (const double y : values) {
+    for (const double x : values) {
+      ASSERT_EQ(retrace::detail::atan2_negative(y, x), std::atan2(y, x) < 0.0) << y << " " << x;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 4000000);
 }
 
 }  // namespace

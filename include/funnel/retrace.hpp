@@ -118,4 +118,12 @@ struct Window {
 /// (ascending): maximal runs of consecutive grid angles. Sorted by bounces, sequence, then angle.
 std::vector<Window> windows(const std::vector<Orbit>& orbits, const std::vector<double>& thetas);
 
+namespace detail {
+
+/// std::atan2(y, x) < 0, without calling atan2 where y's sign decides it (the scan for orbits
+/// compares most turn angles by sign only).
+bool atan2_negative(double y, double x);
+
+}  // namespace detail
+
 }  // namespace funnel::retrace
