@@ -254,6 +254,20 @@ TEST_F(Cli, HugeSweepsNeedYes) {
   EXPECT_EQ(file_count(), 0u);
 }
 
+TEST_F(Cli, PaperWithoutPythonWritesTheDataAndSaysWhyThereAreNoPictures) {
+  // A Python that cannot start: the data are complete, the run succeeds and says what is missing.
+  const Result r = run("paper --quick --only fig01,fig10 --out " + path("p"), "FUNNEL_PYTHON=/nonexistent/python3");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("funnel paper: pictures not made: Python 3 with numpy and matplotlib is needed"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("cannot start /nonexistent/python3"), std::string::npos) << r.output;
+  for (const char* fig : {"fig01", "fig10"}) {
+    EXPECT_TRUE(fs::exists(path("p/" + std::string(fig) + "/" + fig + ".csv"))) << fig;
+    EXPECT_FALSE(fs::exists(path("p/" + std::string(fig) + "/" + fig + ".png"))) << fig;
+  }
+  EXPECT_NE(r.output.find("funnel paper: total wall time"), std::string::npos) << r.output;
+}
+
 TEST_F(Cli, PaperShowsProgressOfClosedFunnelRunsAndSummarisesEachStage) {
   // Not a terminal: one line per stage. FUNNEL_PROGRESS=always: the bar of Fig. 12's runs.
   const std::string args = "paper --quick --only fig12 --out " + path("p");
