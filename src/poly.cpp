@@ -18,51 +18,16 @@ int true_degree(const Poly& p) {
   return n;
 }
 
-/// p at three points, as p(t) computes each (Horner), in one loop: the three chains of
-/// dependent operations overlap instead of running one after the other.
-std::array<double, 3> eval3(const Poly& p, double t0, double t1, double t2) {
-  const double top = p.c[static_cast<std::size_t>(p.degree)];
-  double v0 = top, v1 = top, v2 = top;
-  for (int k = p.degree - 1; k >= 0; --k) {
-    const double ck = p.c[static_cast<std::size_t>(k)];
-    v0 = v0 * t0 + ck;
-    v1 = v1 * t1 + ck;
-    v2 = v2 * t2 + ck;
-  }
-  return {v0, v1, v2};
-}
-
-}  // namespace
-
-namespace detail {
-
+/// Root of p on [lo, hi] where p is monotone with sign(p(lo)) = s_lo != sign(p(hi)): safeguarded
+/// regula falsi (every third step a bisection) down to adjacent doubles. Returns the end on the
+/// side of hi's sign (the first double at which the sign has changed).
 double refine(const Poly& p, double lo, double hi, double f_lo, double f_hi) {
-  // The loop is: a regula falsi guess (bisection when it falls outside, and at every third step),
-  // stop when lo and hi are adjacent (or p is 0 at the guess), keep the side by the sign of p
-  // there. The bisection that follows a regula falsi step (it % 3 == 1) is evaluated at both of
-  // its possible midpoints while that step's own value is computed, and the one the sign selects
-  // is used: the same operations on the same values as the loop one step at a time, a third fewer
-  // evaluations waiting on each other (tests/test_poly.cpp compares with that loop).
   const bool lo_positive = f_lo > 0.0;
-  bool have_next = false;
-  double f_next = 0.0;
   for (int it = 0; it < 400; ++it) {
     double mid = lo + (hi - lo) * (f_lo / (f_lo - f_hi));
     if (!(mid > lo && mid < hi) || it % 3 == 2) mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    double fm;
-    if (have_next) {
-      fm = f_next;  // evaluated at this very mid, 0.5 * (lo + hi), in the step before
-      have_next = false;
-    } else if (it % 3 == 1) {
-      const double mid_up = 0.5 * (mid + hi), mid_down = 0.5 * (lo + mid);
-      const auto [f_mid, f_up, f_down] = eval3(p, mid, mid_up, mid_down);
-      fm = f_mid;
-      f_next = (fm > 0.0) == lo_positive ? f_up : f_down;  // (fm == 0 ends the loop below)
-      have_next = true;
-    } else {
-      fm = p(mid);
-    }
+    const double fm = p(mid);
     if ((fm > 0.0) == lo_positive && fm != 0.0) {
       lo = mid;
       f_lo = fm;
@@ -74,12 +39,6 @@ double refine(const Poly& p, double lo, double hi, double f_lo, double f_hi) {
   }
   return hi;
 }
-
-}  // namespace detail
-
-namespace {
-
-using detail::refine;
 
 /// Sign of p just after t = 0 when p(0) = 0: that of the lowest nonzero coefficient.
 double sign_after_zero(const Poly& p) {

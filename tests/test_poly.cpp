@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <limits>
-#include <random>
 #include <vector>
 
 #include "test_util.hpp"
@@ -90,64 +89,6 @@ TEST(Poly, GrazingApproachIsFoundAndAMissIsNot) {
   }
   base.c = {1.0 + 1e-12, -2.0, 1.0};
   EXPECT_EQ(first_descending_root(base * pos, 5.0), std::numeric_limits<double>::infinity());
-}
-
-/// The refinement one step at a time, as first written: detail::refine must return its bits (it
-/// evaluates a bisection's two possible midpoints ahead of time: the same values).
-double plain_refine(const Poly& p, double lo, double hi, double f_lo, double f_hi) {
-  const bool lo_positive = f_lo > 0.0;
-  for (int it = 0; it < 400; ++it) {
-    double mid = lo + (hi - lo) * (f_lo / (f_lo - f_hi));
-    if (!(mid > lo && mid < hi) || it % 3 == 2) mid = 0.5 * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    const double fm = p(mid);
-    if ((fm > 0.0) == lo_positive && fm != 0.0) {
-      lo = mid;
-      f_lo = fm;
-    } else {
-      hi = mid;
-      f_hi = fm;
-      if (fm == 0.0) break;
-    }
-  }
-  return hi;
-}
-
-TEST(Poly, RefinementGivesThePlainLoopsBits) {
-  // Simple roots, roots a hair apart (where rounding makes the sign of p flicker over many
-  // doubles, so that the path decides the last bit) and exact zeros at a guess, on brackets that
-  // hold one root or several, of either orientation.
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), gap(-12.0, -1.0);
-  int compared = 0, differ_from_bisection = 0;
-  for (int trial = 0; trial < 20000; ++trial) {
-    const int degree = 1 + trial % 8;
-    std::vector<double> roots;
-    const double centre = u(rng);
-    for (int k = 0; k < degree; ++k) {
-      roots.push_back(trial % 3 == 0 ? centre + std::pow(10.0, gap(rng)) * u(rng) : u(rng));
-    }
-    Poly p = from_roots(roots);
-    if (trial % 2 == 1) {
-      for (double& c : p.c) c = -c;
-    }
-    const double lo = centre - std::fabs(u(rng)), hi = centre + std::fabs(u(rng));
-    const double f_lo = p(lo), f_hi = p(hi);
-    if (!(f_lo != 0.0 && f_hi != 0.0 && (f_lo > 0.0) != (f_hi > 0.0))) continue;
-    const double plain = plain_refine(p, lo, hi, f_lo, f_hi);
-    ASSERT_EQ(detail::refine(p, lo, hi, f_lo, f_hi), plain) << trial;
-    // (The comparison can fail: a plain bisection lands elsewhere in a flickering stretch.)
-    double a = lo, b = hi;
-    while (true) {
-      const double m = 0.5 * (a + b);
-      if (m <= a || m >= b) break;
-      ((p(m) > 0.0) == (f_lo > 0.0) && p(m) != 0.0 ? a : b) = m;
-    }
-    differ_from_bisection += b != plain;
-    ++compared;
-  }
-  EXPECT_GT(compared, 8000);
-  EXPECT_GT(differ_from_bisection, 100);  // the path matters: these cases test the speculation
 }
 
 }  // namespace

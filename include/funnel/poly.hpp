@@ -29,14 +29,4 @@ int real_roots(const Poly& p, double lo, double hi, std::array<double, 8>& roots
 /// lowest nonzero coefficient. Returns +infinity if there is none.
 double first_descending_root(const Poly& p, double t_end);
 
-namespace detail {
-
-/// The root of p on [lo, hi], where p is monotone and f_lo = p(lo), f_hi = p(hi) have opposite
-/// signs, to the last bit: regula falsi with a bisection every third step, until lo and hi are
-/// adjacent doubles or p is 0 at a guess; returns the end on hi's side. This defines the bits of
-/// every root above.
-double refine(const Poly& p, double lo, double hi, double f_lo, double f_hi);
-
-}  // namespace detail
-
 }  // namespace funnel
