@@ -69,42 +69,40 @@ struct Branch {
   /// W at psi_r + delta on the solution through (psi_r, w_r); written with half-angle products
   /// and expm1 of the offset delta (not of psi - psi_r, which loses the offset's digits), so that
   /// it keeps its relative accuracy near the reference point (e.g. a turning point, W = 0).
-  double W(double psi_r, double w_r, double delta) const {
-    const double half = 0.5 * delta;
-    const double mid = psi_r + half;
-    if (regime == Regime::Rolling) return w_r - 4.0 * std::cos(mid) * std::sin(half) / (a * (1.0 + kappa));
-    const double d_particular = 2.0 * std::sin(half) * (alpha * std::cos(mid) - beta * std::sin(mid));
-    const double particular_r = alpha * std::sin(psi_r) + beta * std::cos(psi_r);
-    // Beyond the end of a sliding phase the homogeneous part may grow without bound (large mu);
-    // the cap keeps it finite (the phase ends long before).
-    const double arg = std::fmin(-k * delta, 700.0);
-    const double w = d_particular + w_r + (w_r - particular_r) * std::expm1(arg);
-    return std::clamp(w, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
-  }
-
-  /// A bound on the rounding of W(psi_r, w_r, delta) above, to a constant factor: of its terms
-  /// (which cancel where W is far below w_r, e.g. near a small least value of W), and of the
-  /// sine and cosine of mid = psi_r + delta/2 through mid's own rounding (ill-conditioned near
-  /// psi = pi/2 for the cosine, where the particle passes over the edge's top).
-  double W_noise(double psi_r, double w_r, double delta) const {
+  ///
+  /// With `noise`, also a bound on its rounding, to a constant factor: of its terms, which cancel
+  /// where W is far below them (e.g. near a small least value of W), and of the sine and cosine
+  /// of mid = psi_r + delta/2 through mid's own rounding (ill-conditioned near psi = pi/2 for the
+  /// cosine, where the particle passes over the edge's top). For the sliding W = d_particular +
+  /// w_r + h E (h = w_r - particular_r, E = expm1(arg)): the rounding of each term, of h (times E)
+  /// and of arg (times e^arg), and of the sums.
+  double W(double psi_r, double w_r, double delta, double* noise = nullptr) const {
     constexpr double eps = std::numeric_limits<double>::epsilon();
     const double half = 0.5 * delta;
     const double mid = psi_r + half;
-    const double s_half = std::fabs(std::sin(half)), c_mid = std::cos(mid), s_mid = std::sin(mid);
+    const double s_half = std::sin(half), c_mid = std::cos(mid);
     if (regime == Regime::Rolling) {
       const double scale = 4.0 / (a * (1.0 + kappa));
-      return eps * (std::fabs(w_r) + scale * s_half * (3.0 * std::fabs(c_mid) + std::fabs(s_mid) * std::fabs(mid)));
+      if (noise != nullptr) *noise = eps * (std::fabs(w_r) + scale * std::fabs(s_half) * (3.0 * std::fabs(c_mid) + std::fabs(mid)));
+      return w_r - 4.0 * c_mid * s_half / (a * (1.0 + kappa));
     }
-    // W = d_particular + w_r + h E with h = w_r - particular_r and E = expm1(arg): the rounding
-    // of each term, of h (times E) and of arg (times e^arg), and of the sums.
-    const double particular_abs = std::fabs(alpha * std::sin(psi_r)) + std::fabs(beta * std::cos(psi_r));
+    const double s_mid = std::sin(mid);
+    const double d_particular = 2.0 * s_half * (alpha * c_mid - beta * s_mid);
+    const double s_r = std::sin(psi_r), c_r = std::cos(psi_r);
+    const double particular_r = alpha * s_r + beta * c_r;
+    // Beyond the end of a sliding phase the homogeneous part may grow without bound (large mu);
+    // the cap keeps it finite (the phase ends long before).
     const double arg = std::fmin(-k * delta, 700.0);
-    const double grow = std::fabs(std::expm1(arg));
-    const double homogeneous = std::fabs(w_r - (alpha * std::sin(psi_r) + beta * std::cos(psi_r)));
-    const double d_particular = 2.0 * s_half * (std::fabs(alpha * c_mid) + std::fabs(beta * s_mid));
-    const double d_mid = 2.0 * s_half * (std::fabs(alpha * s_mid) + std::fabs(beta * c_mid)) * std::fabs(mid);
-    return eps * (3.0 * d_particular + d_mid + std::fabs(w_r) + 2.0 * grow * (std::fabs(w_r) + particular_abs) +
-                  homogeneous * (3.0 * grow + (grow + 1.0) * std::fabs(arg)));
+    const double grow = std::expm1(arg);
+    const double w = d_particular + w_r + (w_r - particular_r) * grow;
+    if (noise != nullptr) {
+      const double g = std::fabs(grow), h = std::fabs(w_r - particular_r);
+      const double terms = 2.0 * std::fabs(s_half) * (std::fabs(alpha * c_mid) + std::fabs(beta * s_mid));
+      const double d_mid = 2.0 * std::fabs(s_half) * (std::fabs(alpha * s_mid) + std::fabs(beta * c_mid)) * std::fabs(mid);
+      *noise = eps * (3.0 * terms + d_mid + std::fabs(w_r) + 2.0 * g * (std::fabs(w_r) + std::fabs(alpha * s_r) + std::fabs(beta * c_r)) +
+                      h * (3.0 * g + (g + 1.0) * std::fabs(arg)));
+    }
+    return std::clamp(w, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
   }
 
   double normal(double psi, double w) const { return std::sin(psi) - a * w; }
@@ -388,22 +386,19 @@ class Contact {
     auto offset_a = [&](double x) { const double s = std::sin(0.5 * pi * x); return span * s * s; };
     auto offset_b = [&](double x) { const double c = std::cos(0.5 * pi * x); return -span * c * c; };
     auto psi_at = [&](double x) { return x < 0.5 ? psi_a + offset_a(x) : psi_b + offset_b(x); };
-    auto w_at = [&](double x) {
+    auto w_at = [&](double x, double* noise = nullptr) {
       const bool from_end = why == PhaseEnd::Turning && x >= 0.5 && std::fabs(b.k * offset_b(x)) <= 1.0;
-      return from_end ? b.W(psi_b, w_b, offset_b(x)) : b.W(psi_a, w_a, offset_a(x));
-    };
-    auto w_noise_at = [&](double x) {
-      const bool from_end = why == PhaseEnd::Turning && x >= 0.5 && std::fabs(b.k * offset_b(x)) <= 1.0;
-      return from_end ? b.W_noise(psi_b, w_b, offset_b(x)) : b.W_noise(psi_a, w_a, offset_a(x));
+      return from_end ? b.W(psi_b, w_b, offset_b(x), noise) : b.W(psi_a, w_a, offset_a(x), noise);
     };
     auto integrand = [&](double x) -> Sample {
       const double psi = psi_at(x);
-      const double w = w_at(x);
+      double w_noise = 0.0;
+      const double w = w_at(x, &w_noise);
       if (!(w > 0.0)) return {};
       const double dt = span * 0.5 * pi * std::sin(pi * x) / (dir_ * std::sqrt(w));
       const double n = b.normal(psi, w);
       const double f = b.friction(psi, n);
-      return {{dt, std::cos(psi) * dt, n * dt, std::hypot(n, f) * dt}, 0.5 * std::fabs(dt) * w_noise_at(x) / w};
+      return {{dt, std::cos(psi) * dt, n * dt, std::hypot(n, f) * dt}, 0.5 * std::fabs(dt) * w_noise / w};
     };
 
     Quadrature<decltype(integrand)> integrate(integrand, m_.mu);
