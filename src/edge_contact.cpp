@@ -129,11 +129,11 @@ Branch zero_slip_branch(double psi, double n, const Material& m) {
 }
 
 /// The integrand at a point of the phase's variable x: (dt, cos(psi) dt, N dt,
-/// sqrt(N^2 + F^2) dt) per unit of x, and a bound on the rounding of its dt (from W's, dt
-/// being proportional to 1/sqrt(W)).
+/// sqrt(N^2 + F^2) dt) per unit of x, and a bound on the rounding each carries from W's
+/// (dt being proportional to 1/sqrt(W)).
 struct Sample {
   Vec4 v{};
-  double noise = 0.0;
+  Vec4 noise{};
 };
 
 /// Adaptive Gauss-Kronrod quadrature (15 points, Gauss 7 embedded) of the vector integrand
@@ -158,15 +158,14 @@ class Quadrature {
     using G = boost::math::quadrature::gauss<double, 7>;
     const double mid = 0.5 * (x0 + x1);
     const double half = 0.5 * (x1 - x0);
-    Vec4 kron{}, gauss{}, l1{};
-    double noise = 0.0;
+    Vec4 kron{}, gauss{}, l1{}, noise{};
     auto add = [&](const Sample& s, double wk, double wg) {
       for (int c = 0; c < 4; ++c) {
         kron[c] += wk * s.v[c];
         gauss[c] += wg * s.v[c];
         l1[c] += wk * std::fabs(s.v[c]);
+        noise[c] += wk * s.noise[c];
       }
-      noise += wk * s.noise;
     };
     add(f_(mid), K::weights()[0], G::weights()[0]);
     for (std::size_t i = 1; i < K::abscissa().size(); ++i) {
@@ -186,10 +185,10 @@ class Quadrature {
     // refining on spent the whole evaluation budget depth first on the first stretch, leaving
     // the rest of the phase unrefined: its contact time was 10^-7 to 1.3 times off
     // (docs/robustness.md, finding 21).
-    const double floor = std::fmax(64.0 * std::numeric_limits<double>::epsilon() * bound_ * l1[0], 8.0 * bound_ * noise);
+    const double floor = 64.0 * std::numeric_limits<double>::epsilon() * bound_ * l1[0];
     bool converged = true;
     for (int c = 0; c < 4; ++c) {
-      if (std::fabs(kron[c] - gauss[c]) > std::fmax(quad_tol * l1[c], floor)) converged = false;
+      if (std::fabs(kron[c] - gauss[c]) > std::fmax(std::fmax(quad_tol * l1[c], floor), 8.0 * noise[c])) converged = false;
     }
     if (converged || depth >= 50 || evaluations_ > budget || !(x0 < mid && mid < x1)) {
       for (double& v : kron) v *= half;
@@ -398,7 +397,10 @@ class Contact {
       const double dt = span * 0.5 * pi * std::sin(pi * x) / (dir_ * std::sqrt(w));
       const double n = b.normal(psi, w);
       const double f = b.friction(psi, n);
-      return {{dt, std::cos(psi) * dt, n * dt, std::hypot(n, f) * dt}, 0.5 * std::fabs(dt) * w_noise / w};
+      const double impulse = std::hypot(n, f);
+      const double noise = 0.5 * std::fabs(dt) * w_noise / w;
+      return {{dt, std::cos(psi) * dt, n * dt, impulse * dt},
+              {noise, std::fabs(std::cos(psi)) * noise, std::fabs(n) * noise, impulse * noise}};
     };
 
     Quadrature<decltype(integrand)> integrate(integrand, m_.mu);
