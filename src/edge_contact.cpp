@@ -82,8 +82,10 @@ struct Branch {
     const double mid = psi_r + half;
     const double s_half = std::sin(half), c_mid = std::cos(mid);
     if (regime == Regime::Rolling) {
-      const double scale = 4.0 / (a * (1.0 + kappa));
-      if (noise != nullptr) *noise = eps * (std::fabs(w_r) + scale * std::fabs(s_half) * (3.0 * std::fabs(c_mid) + std::fabs(mid)));
+      if (noise != nullptr) {
+        const double scale = 4.0 / (a * (1.0 + kappa));
+        *noise = eps * (std::fabs(w_r) + scale * std::fabs(s_half) * (3.0 * std::fabs(c_mid) + std::fabs(mid)));
+      }
       return w_r - 4.0 * c_mid * s_half / (a * (1.0 + kappa));
     }
     const double s_mid = std::sin(mid);
@@ -129,11 +131,11 @@ Branch zero_slip_branch(double psi, double n, const Material& m) {
 }
 
 /// The integrand at a point of the phase's variable x: (dt, cos(psi) dt, N dt,
-/// sqrt(N^2 + F^2) dt) per unit of x, and a bound on the rounding each carries from W's
-/// (dt being proportional to 1/sqrt(W)).
+/// sqrt(N^2 + F^2) dt) per unit of x, and a bound on the relative rounding each carries from
+/// W's (each is proportional to dt, so to 1/sqrt(W)).
 struct Sample {
   Vec4 v{};
-  Vec4 noise{};
+  double noise = 0.0;
 };
 
 /// Adaptive Gauss-Kronrod quadrature (15 points, Gauss 7 embedded) of the vector integrand
@@ -164,7 +166,7 @@ class Quadrature {
         kron[c] += wk * s.v[c];
         gauss[c] += wg * s.v[c];
         l1[c] += wk * std::fabs(s.v[c]);
-        noise[c] += wk * s.noise[c];
+        noise[c] += wk * std::fabs(s.v[c]) * s.noise;
       }
     };
     add(f_(mid), K::weights()[0], G::weights()[0]);
@@ -397,10 +399,7 @@ class Contact {
       const double dt = span * 0.5 * pi * std::sin(pi * x) / (dir_ * std::sqrt(w));
       const double n = b.normal(psi, w);
       const double f = b.friction(psi, n);
-      const double impulse = std::hypot(n, f);
-      const double noise = 0.5 * std::fabs(dt) * w_noise / w;
-      return {{dt, std::cos(psi) * dt, n * dt, impulse * dt},
-              {noise, std::fabs(std::cos(psi)) * noise, std::fabs(n) * noise, impulse * noise}};
+      return {{dt, std::cos(psi) * dt, n * dt, std::hypot(n, f) * dt}, 0.5 * w_noise / w};
     };
 
     Quadrature<decltype(integrand)> integrate(integrand, m_.mu);
