@@ -4,6 +4,6 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/setup.sh
-funnel_build build
+funnel_build build --target funnel_apps  # the CLI and the Python package; ./test.sh builds the rest
 ./build/funnel paper --out out "$@"
 echo "funnel: open out/index.html for the report"

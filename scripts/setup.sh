@@ -42,10 +42,22 @@ funnel_install() {
 
 funnel_install "${FUNNEL_PACKAGES[@]}"
 
-# Configure and build in Release (the directory and the extra CMake options may be overridden).
+# Configure and build in Release: funnel_build [DIR [--target T]... [CMAKE_OPTION]...]. The
+# directory (default build) and extra CMake options may be given; each --target T builds only T
+# (and what it needs) instead of everything.
 funnel_build() {
   local dir=${1:-build}
   shift || true
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
-  cmake --build "$dir" -j "$(nproc)"
+  local options=() targets=()
+  while [ $# -gt 0 ]; do
+    if [ "$1" = --target ] && [ $# -ge 2 ]; then
+      targets+=(--target "$2")
+      shift 2
+    else
+      options+=("$1")
+      shift
+    fi
+  done
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "${options[@]}" >/dev/null
+  cmake --build "$dir" -j "$(nproc)" "${targets[@]}"
 }

@@ -188,7 +188,7 @@ TEST_F(Cli, EveryEnginePathWritesTheSameBytes) {
   // this CPU cannot run is ignored: the widest path is used).
   const std::string sweep = "sweep --theta 30,46,60 --mu 0.1,1 --samples 300 --out ";
   const std::string closed = "closed --theta 50 --mu 0.01 --samples 100 --format csv --out ";
-  for (const std::string& path : {"scalar", "sse4", "avx2", "avx512", "avx1024"}) {
+  for (const std::string path : {"scalar", "sse4", "avx2", "avx512", "avx1024"}) {
     const std::string env = "FUNNEL_SIMD=" + path;
     ASSERT_EQ(run(sweep + this->path(path + ".csv"), env).code, 0);
     ASSERT_EQ(run(closed + this->path(path + "_closed.csv"), env).code, 0);
