@@ -53,6 +53,13 @@ constexpr std::int64_t max_steps = 20'000'000;
 /// eps_rest, its steps would not end (20 million of them took a ball from 1.2e-9 to 3e-10 H of
 /// the vertex). A ball that only passes near the axis keeps its energy and goes on.
 constexpr double vertex_reach = 1e-4;
+/// In a closed cone, a face contact has also reached the vertex once its centre is this many radii
+/// from it (along the generator of the centre's cone), whatever its energy: a spin about a
+/// horizontal axis keeps the energy above vertex_reach a (for ever with mu = 0), and a ball that
+/// spirals in with a little angular momentum about the axis would be integrated ever more finely
+/// (phi' = h / rho^2) until the step guard. A ball that passes close to the axis with its energy
+/// comes far nearer than any such pass (1e-5 a in the tests) only by aiming at the vertex.
+constexpr double vertex_close = 1e-9;
 /// Phase changes after which a contact is ended as TimeCap: a guard against chattering between
 /// rolling and sliding, never reached in the tests.
 constexpr int max_phases = 100000;
@@ -203,7 +210,9 @@ class Integrated {
  public:
   Integrated(const Surface& sf, const Cone& cone, const Material& m, const Contact3Options& opt)
       : sf_(sf), cone_(cone), m_(m), opt_(opt) {
-    q_end_ = cone.g.x_face_end / cone.g.cos_t;
+    // The face's lower end: C* in an open cone, the vertex (the apex of the centre's cone, l = 0,
+    // within vertex_close a) in a closed one, where the contact ends at rest (docs/model.md §5).
+    q_end_ = cone.g.closed ? vertex_close * m.radius : cone.g.x_face_end / cone.g.cos_t;
     psi_top_ = 0.5 * std::numbers::pi + std::atan2(cone.g.sin_t, cone.g.cos_t);
   }
 
@@ -211,6 +220,14 @@ class Integrated {
     Y y = coordinates(sf_, start);
     const double e_start = energy(start, m_.kappa, m_.radius);
     double t = 0.0;
+    if (!sf_.torus && cone_.g.closed && !(y[Q] > q_end_)) {
+      // A face contact that starts at the vertex (within vertex_close a: e.g. after a collapse
+      // onto it) has reached it: at rest there. (The azimuth's rate h / rho^2 is undefined at
+      // rho = 0.)
+      res_.how = Contact3End::Rest;
+      res_.end = start;
+      return res_;
+    }
     Mode mode = initial_mode(y);
     res_.first_regime = regime(mode);
     double dt = 1e-4;
@@ -235,7 +252,8 @@ class Integrated {
         continue;
       }
       {
-        res_.how = why == Stop::End       ? Contact3End::FaceEnd
+        // A closed cone's face ends at the vertex, where the contact ends at rest.
+        res_.how = why == Stop::End       ? (cone_.g.closed ? Contact3End::Rest : Contact3End::FaceEnd)
                    : why == Stop::RimTop  ? Contact3End::RimTop
                    : why == Stop::TakeOff ? Contact3End::TakeOff
                    : why == Stop::Exit    ? Contact3End::Exit
@@ -251,7 +269,15 @@ class Integrated {
       res_.impulse = y[IF];
       res_.swept = y[PHI] - phi_start_;
     }
-    res_.end = sf_.state(y);
+    if (res_.how == Contact3End::Rest && !sf_.torus && !(y[Q] > q_end_)) {
+      // At the vertex (within vertex_close a of it): the centre placed there, as the 2D contact
+      // ends exactly at the corner, with its velocity along the generator (rho phi' = h / rho is
+      // undefined at rho = 0).
+      const double c = std::cos(y[PHI]), s = std::sin(y[PHI]);
+      res_.end = {Vec3{}, y[QD] * Vec3{sf_.cos_t * c, sf_.sin_t, -sf_.cos_t * s}, Surface::omega(y)};
+    } else {
+      res_.end = sf_.state(y);
+    }
     res_.contact_impulse = res_.end.v - start.v + Vec3{0.0, res_.duration, 0.0};
     res_.energy_lost = e_start - energy(res_.end, m_.kappa, m_.radius);
     return res_;
@@ -312,7 +338,7 @@ class Integrated {
     e.f.fill(off);
     const Kin k = kin_at(y);
     if (!sf_.torus) {
-      if (!cone_.g.closed) e.f[0] = y[Q] - q_end_;
+      e.f[0] = y[Q] - q_end_;
     } else {
       e.f[1] = y[Q] - psi_top_;
       e.f[2] = k.normal;

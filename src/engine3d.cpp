@@ -342,7 +342,9 @@ class Run3 {
       case Contact3End::Rest: end(Status::Rest, time_); break;
       case Contact3End::Periodic: out_.periodic = true; end(Status::Trapped, params_.t_max); break;
       case Contact3End::TimeCap:
-        out_.stalled = time_ < params_.t_max;  // a guard of the integrator fired, not the cap
+        // A guard of the integrator fired, not the cap: the contact ended before its budget (the
+        // cap less the time before it; time_ + budget can round 1 ulp below t_max).
+        out_.stalled = res.duration < opt_.t_budget;
         end(Status::Trapped, time_);
         break;
       default: break;

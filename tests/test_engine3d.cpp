@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "funnel/audit3d.hpp"
 #include "funnel/ensemble3d.hpp"
@@ -241,6 +242,109 @@ TEST(Engine3d, InAClosedConeAContactThatReachesTheVertexEndsAtRest) {
     ASSERT_FALSE(log.events.empty());
     EXPECT_EQ(log.events.back().kind, EventKind::ContactEnd);
   }
+}
+
+TEST(Engine3d, InAClosedConeAnIntegratedContactThatReachesTheVertexRestsThere) {
+  // Found by a random 3D campaign (docs/robustness.md, finding 23). A face contact off the
+  // meridian plane (spin about a horizontal axis) slid into a closed cone's vertex with an energy
+  // above the vertex kept above 1e-4 a by its spin, which mu = 0 never takes away: the integration
+  // went on through the apex of the centre's cone, and the ball ended at the time cap 1.4e4 H
+  // below the vertex, `trapped`. A contact that started exactly on the axis gave NaN (the
+  // azimuth's rate h / rho^2 at rho = 0). A third collapsed onto the vertex (bounces of 1e-19 H)
+  // and, spinning, was driven out of it by friction in 18 million integrator steps (15 s) until
+  // the time cap. docs/model.md §5 and §9: the contact ends at the vertex (within 1e-9 a), at rest.
+  struct Case {
+    double theta, e, mu, beta0, radius, inertia, t_max, release, u, v, spin_z, spin_x, spin_y;
+  };
+  for (const Case& k : {Case{63.38668602264677, 0.9598233580633417, 0.0, 1.0, 0.0014424979624671748, 0.4,
+                            230.4107885288246, 0.1094332475621833, 0.6105763898720452, 0.004480772024203694,
+                            -25.427328730194912, -9.087942294028498, -6.476677427266285},
+                       Case{80.28963150785843, 0.0, 2.485712538144175, -1.0, 0.00012454192192585745, 0.4,
+                            71.07367637450469, 0.0, 0.0, 0.0, -0.0044622209517168904, -0.31555640244594024,
+                            0.13486976997895972},
+                       Case{85.28033682906388, 0.9009302290481235, 0.046699859444103535, -1.0, 0.003568119487368158,
+                            0.861373574720947, 10.340525284559046, 0.9207733155909997, 0.0, 0.0, -4.168832765618735,
+                            7.445898715202002, -6.5567487237228566}}) {
+    Params p = params_with(k.theta, k.e, k.mu, k.beta0, 0.0);
+    p.radius = k.radius;
+    p.inertia = k.inertia;
+    p.t_max = k.t_max;
+    p.release_u = k.u;
+    p.release_v = k.v;
+    p.release_spin = k.spin_z;
+    p.release_spin_x = k.spin_x;
+    p.release_spin_y = k.spin_y;
+    const Cone c = make_cone(p);
+    EventLog3 log;
+    const Trajectory3 t = simulate_release_3d(p, c, k.release, &log);
+    EXPECT_EQ(t.status, Status::Rest) << k.theta;
+    EXPECT_FALSE(t.stalled);
+    EXPECT_LT(t.duration, 0.5 * k.t_max);
+    EXPECT_LT(t.ode_steps, 100000);
+    EXPECT_TRUE(std::isfinite(t.energy_loss) && std::isfinite(t.impulse)) << t.energy_loss << " " << t.impulse;
+    EXPECT_LE(norm(t.final_state.r), 1e-12) << t.final_state.r.x << " " << t.final_state.r.y;
+    EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-12));
+    ASSERT_FALSE(log.events.empty());
+    EXPECT_EQ(log.events.back().kind, EventKind::ContactEnd);
+    EXPECT_TRUE(audit_flights_3d(c, release_state_3d(p, c, k.release), log.events).clean());
+  }
+}
+
+TEST(Engine3d, ClosedConeContactsNeverLeaveTheConeWhateverTheSpin) {
+  // Random releases into closed cones, thrown and spinning about any axis, with and without
+  // friction: every contact ends on or above the vertex (a face contact's centre on the centre
+  // cone l >= 0), no result is NaN, and a run at rest is at the vertex or on the face.
+  std::uint64_t state = 12345;
+  auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1p-53;
+  };
+  int rests = 0, contacts = 0;
+  for (int i = 0; i < 80; ++i) {
+    Params p = params_with(uniform(20.0, 85.0), i % 3 == 0 ? 0.0 : uniform(0.5, 1.0), i % 2 == 0 ? 0.0 : uniform(0.05, 2.0),
+                           uniform(-1.0, 1.0), 0.0);
+    p.radius = uniform(1e-3, 0.05);
+    p.t_max = 20.0;
+    p.release_u = uniform(-0.5, 0.5);
+    p.release_w = i % 4 == 0 ? 0.0 : uniform(-0.05, 0.05);
+    p.release_spin = uniform(-20.0, 20.0);
+    p.release_spin_x = uniform(-20.0, 20.0);
+    p.release_spin_y = uniform(-20.0, 20.0);
+    const Cone c = make_cone(p);
+    EventLog3 log;
+    const Trajectory3 t = simulate_release_3d(p, c, uniform(-0.9, 0.9), &log);
+    ASSERT_TRUE(std::isfinite(t.energy_loss) && std::isfinite(t.final_state.r.y)) << i;
+    EXPECT_FALSE(t.stalled) << i;
+    for (const Event3& ev : log.events) {
+      if (ev.kind != EventKind::ContactEnd) continue;
+      ++contacts;
+      EXPECT_GE(ev.position.y, -1e-12) << i << " " << ev.time;
+    }
+    if (t.status == Status::Rest) ++rests;
+    EXPECT_GE(t.final_state.r.y, -1e-12) << i;
+  }
+  EXPECT_GT(rests, 10);
+  EXPECT_GT(contacts, 10);
+}
+
+TEST(Engine3d, ATimeCapInsideAnIntegratedContactIsNotAStall) {
+  // Found by the random 3D campaign (finding 23): the cap fell inside an integrated contact, whose
+  // budget t_max - t ends it exactly, but t + (t_max - t) rounded 1 ulp below t_max, and the run
+  // was flagged `stalled` (the guard against a contact that never ends), as 218 of 35 883 random
+  // runs were.
+  Params p = params_with(15.334552628969817, 0.07663176832152153, 6.258555897618983, 0.5883970860683323,
+                         0.2745633249129569);
+  p.radius = 0.0030073434046603;
+  p.inertia = 0.4536588499813188;
+  p.t_max = 5.473350031383107;
+  p.release_spin = -2.317393259329977;
+  p.release_spin_x = -22.925753376544854;
+  p.release_spin_y = 16.775485344413305;
+  const Trajectory3 t = simulate_release_3d(p, make_cone(p), 0.7533581196081566);
+  EXPECT_EQ(t.status, Status::Trapped);
+  EXPECT_FALSE(t.stalled);
+  EXPECT_GT(t.contacts + t.edge_contacts, 0);
+  EXPECT_TRUE(near(t.duration, p.t_max, 1e-15));
 }
 
 TEST(Engine3d, EnergyLossEqualsSumOfEventLosses) {
