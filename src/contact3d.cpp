@@ -347,8 +347,17 @@ class Integrated {
     // A closed cone's contact ends at rest when the energy above the vertex is below eps_rest or
     // below vertex_reach a: the centre can then never rise more than vertex_reach a above the
     // vertex again (a contact only loses energy, and so do collisions), so it has reached it.
+    // Without friction the spin is never exchanged with the motion of the centre: its energy
+    // does not count towards the vertex_reach test (a spinning ball that orbited 4e-9 a from the
+    // vertex went on to the step guard).
     if (cone_.g.closed) {
-      e.f[4] = energy(sf_.state(y), m_.kappa, m_.radius) - std::fmax(opt_.eps_rest, vertex_reach * m_.radius);
+      const State3 st = sf_.state(y);
+      const double e_all = energy(st, m_.kappa, m_.radius);
+      e.f[4] = e_all - std::fmax(opt_.eps_rest, vertex_reach * m_.radius);
+      if (m_.mu == 0.0) {
+        const double spin = 0.5 * m_.kappa * m_.radius * m_.radius * dot(st.omega, st.omega);
+        e.f[4] = std::fmin(e.f[4], (e_all - spin) - vertex_reach * m_.radius);
+      }
     }
     // Sliding: the slip's zero. Onset: static friction becoming able to hold rolling again (the
     // slip is still 0 within rounding), which also goes to the zero-slip decision.

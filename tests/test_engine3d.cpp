@@ -287,6 +287,14 @@ TEST(Engine3d, InAClosedConeAnIntegratedContactThatReachesTheVertexRestsThere) {
     ASSERT_FALSE(log.events.empty());
     EXPECT_EQ(log.events.back().kind, EventKind::ContactEnd);
     EXPECT_TRUE(audit_flights_3d(c, release_state_3d(p, c, k.release), log.events).clean());
+    // The same release turned about the axis: the collapse onto the vertex ends 6e-12 H from it,
+    // off the meridian plane, where the frictionless ball then orbited (its spin, which mu = 0
+    // never exchanges, kept the energy above 1e-4 a) until the step guard, `stalled`.
+    const Trajectory3 turned = simulate_3d(p, c, rotate(release_state_3d(p, c, k.release), -1.9025409959866046));
+    EXPECT_EQ(turned.status, Status::Rest) << k.theta;
+    EXPECT_FALSE(turned.stalled);
+    EXPECT_LT(turned.ode_steps, 100000);
+    EXPECT_TRUE(near(turned.duration, t.duration, 1e-5)) << turned.duration << " " << t.duration;
   }
 }
 
