@@ -304,7 +304,14 @@ double rim_time(const Cone& c, const State3& s, const FlightStart3& start, doubl
   const double A = s.r.x * s.r.x + s.r.z * s.r.z, B = 2.0 * (s.r.x * s.v.x + s.r.z * s.v.z),
                C = s.v.x * s.v.x + s.v.z * s.v.z;
   const int n2 = quadratic_windows(A, B, C, (R + a * pad) * (R + a * pad), true, t_limit, w2);
-  const int n3 = quadratic_windows(A, B, C, (R - a * pad) * (R - a * pad), false, t_limit, w3);
+  // In a ring less than 1e-6 a wider than the ball the enlarged inner radius R - a pad is below
+  // 0: then there is no inner bound (squaring it would exclude the centres within |R - a pad| of
+  // the axis, where such a ring's far side is hit: docs/robustness.md, finding 24).
+  const double inner = std::fmax(0.0, R - a * pad);
+  int n3 = 1;
+  w3[0] = 0.0;
+  w3[1] = t_limit;
+  if (inner > 0.0) n3 = quadratic_windows(A, B, C, inner * inner, false, t_limit, w3);
   std::array<double, 8> cur{}, next{};
   int n = 0;
   for (int i = 0; i < n1; ++i) {

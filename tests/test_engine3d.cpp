@@ -335,6 +335,36 @@ TEST(Engine3d, ClosedConeContactsNeverLeaveTheConeWhateverTheSpin) {
   EXPECT_GT(contacts, 10);
 }
 
+TEST(Engine3d, InARingBarelyWiderThanTheBallTheFarSideOfTheRimIsFound) {
+  // Found by the random 3D campaign (docs/robustness.md, finding 24): a ring 1.4e-7 a wider than
+  // the ball (d/2a - 1), the ball chattering between the two sides of the rim near the axis, in
+  // a meridian plane. The rim search only looks where the centre is in the annulus
+  // R - a pad <= rho <= R + a pad (pad = 1 + 1e-6); here R - a pad < 0, and its square excluded
+  // the centres within 5.9e-8 H of the axis: a hit on the far side at rho = 5.9e-8 was missed
+  // after 2266 events, and the ball exited through the rim, 3.2e-5 H off the axis with the rim
+  // 4.7e-4 a inside it. It must be the 2D run, event for event.
+  Params p = params_with(56.80004989556421, 0.993566988978814, 0.0, 0.770275906678433, 0.13816695647568283);
+  p.radius = 0.0690834684581524;
+  p.t_max = 262.2174414021325;
+  p.release_u = -0.006261781627216114;
+  p.release_v = 0.014732381865008703;
+  p.release_spin = -18.01616251947285;
+  const double x0 = 0.6456391015214681;
+  EventLog l2;
+  EventLog3 l3;
+  const Trajectory t2 = simulate_release(p, make_geometry(p), x0, &l2);
+  const Cone c = make_cone(p);
+  const Trajectory3 t3 = simulate_release_3d(p, c, x0, &l3);
+  ASSERT_EQ(t2.status, Status::Exited);
+  EXPECT_EQ(t3.status, Status::Exited);
+  EXPECT_EQ(t3.collisions, t2.collisions);
+  EXPECT_EQ(l3.events.size(), l2.events.size());
+  EXPECT_GT(t2.edge_collisions, 2000);
+  EXPECT_TRUE(near(t3.duration, t2.duration, 1e-12));
+  EXPECT_LE(axis_distance(t3.exit_state.r), c.rim_radius - p.radius);
+  EXPECT_TRUE(audit_flights_3d(c, release_state_3d(p, c, x0), l3.events).clean());
+}
+
 TEST(Engine3d, ATimeCapInsideAnIntegratedContactIsNotAStall) {
   // Found by the random 3D campaign (finding 23): the cap fell inside an integrated contact, whose
   // budget t_max - t ends it exactly, but t + (t_max - t) rounded 1 ulp below t_max, and the run
