@@ -9,6 +9,7 @@
 
 #include "funnel/audit3d.hpp"
 #include "funnel/ensemble3d.hpp"
+#include "funnel/random.hpp"
 #include "test_util.hpp"
 
 namespace funnel {
@@ -302,11 +303,8 @@ TEST(Engine3d, ClosedConeContactsNeverLeaveTheConeWhateverTheSpin) {
   // Random releases into closed cones, thrown and spinning about any axis, with and without
   // friction: every contact ends on or above the vertex (a face contact's centre on the centre
   // cone l >= 0), no result is NaN, and a run at rest is at the vertex or on the face.
-  std::uint64_t state = 12345;
-  auto uniform = [&state](double lo, double hi) {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1p-53;
-  };
+  std::uint64_t draws = 0;
+  auto uniform = [&draws](double lo, double hi) { return lo + (hi - lo) * uniform01(12345, 0, draws++); };
   int rests = 0, contacts = 0;
   for (int i = 0; i < 80; ++i) {
     Params p = params_with(uniform(20.0, 85.0), i % 3 == 0 ? 0.0 : uniform(0.5, 1.0), i % 2 == 0 ? 0.0 : uniform(0.05, 2.0),
