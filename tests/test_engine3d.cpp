@@ -383,6 +383,40 @@ TEST(Engine3d, ATimeCapInsideAnIntegratedContactIsNotAStall) {
   EXPECT_TRUE(near(t.duration, p.t_max, 1e-15));
 }
 
+TEST(Engine3d, ARimContactThatStartsAtTheOnsetOfSlidingNeverGainsEnergy) {
+  // A ball rolls down a shallow cone into a ring 5% wider than itself and crosses the rim at speed:
+  // on the rim the normal force falls (3.6 to 0.12 m g), rolling cannot be held, and the slip grows
+  // to 4e-6 within the onset's first step, where static friction can hold rolling again. That
+  // slip used to be discarded by rolling at once, which gave the ball 9.2e-7 m g H at each pass
+  // (found by a random 3D campaign; docs/robustness.md, finding 25). Now it slides until friction
+  // has taken the slip away, and every event loses energy.
+  Params p = params_with(9.683201325809506, 0.7096699309029338, 3.199673328188112, 0.11312066645304997, 0.09349855315127335);
+  p.radius = 0.04443457953974535;
+  p.inertia = 0.2502415602370436;
+  p.t_max = 8.0;
+  p.release_spin = -3.7648175298626017;
+  p.release_spin_x = -1.4912887986923538;
+  p.release_spin_y = 1.6066591294827786;
+  const Cone c = make_cone(p);
+  for (const double angle : {0.0, 1.0}) {
+    const State3 s = rotate(release_state_3d(p, c, 0.5185358823345182), angle);
+    EventLog3 log;
+    const Trajectory3 t = simulate_3d(p, c, s, &log);
+    int rim_contacts = 0;
+    double energy_after = energy(s, p.inertia, p.radius);
+    for (const Event3& ev : log.events) {
+      const double before = energy({ev.position, ev.velocity_before, ev.omega_before}, p.inertia, p.radius);
+      EXPECT_LE(before - energy_after, 1e-12) << "energy gained before the event at t = " << ev.time;
+      EXPECT_GE(ev.energy_lost, -1e-12) << ev.time;
+      energy_after = energy({ev.position, ev.velocity_after, ev.omega_after}, p.inertia, p.radius);
+      rim_contacts += ev.kind == EventKind::EdgeContactEnd;
+    }
+    EXPECT_EQ(rim_contacts, 1) << angle;
+    EXPECT_GT(t.energy_loss, 0.0);
+    EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-12));
+  }
+}
+
 TEST(Engine3d, EnergyLossEqualsSumOfEventLosses) {
   int with_contacts = 0;
   for (const double theta : {25.0, 50.0, 70.0}) {
