@@ -240,14 +240,14 @@ class Integrated {
       const Stop why = phase(y, t, mode, dt);
       if (why == Stop::SlipZero) {
         if (mode == Mode::Onset) {
-          // Static friction can hold rolling again, but the slip may have grown beyond rounding
-          // within the step (the onset's end is checked at the start of each step): then the
+          // Static friction can hold rolling again, but the slip may no longer be zero (it grows
+          // during the onset, whose end is checked only at the start of each step): then the
           // ball slides, and friction must take that slip away. Rolling at once would discard it,
           // and with it its energy, of either sign (docs/robustness.md, finding 25: a ball crossing
           // a narrow ring's rim gained 9e-7 m g H at each pass).
           const Kin k = sf_.kin(y);
           const Vec3 s = sf_.slip(k, y);
-          if (norm(s) > grown_slip * slip_scale(k, y)) {
+          if (norm(s) > zero_slip * slip_scale(k, y)) {
             reference_ = unit(s);
             mode = Mode::Sliding;
             continue;

