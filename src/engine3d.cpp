@@ -146,12 +146,24 @@ class Run3 {
     return c;
   }
 
+  /// The half-plane of the face the centre meets: its own, or on the axis (a closed cone's vertex,
+  /// where it touches every generator at once) the one it moves towards. The position alone would
+  /// name the same generator for every bounce in the vertex, undoing each bounce with the next
+  /// (docs/robustness.md, finding 26).
+  Vec3 face_side() const {
+    if (state_.r.x != 0.0 || state_.r.z != 0.0) return meridian_direction(state_.r);
+    return meridian_direction({state_.v.x, 0.0, state_.v.z});
+  }
+
   FlightStart3 face_collision() {
-    const Vec3 b = meridian_direction(state_.r);
+    const Vec3 b = face_side();
     const Vec3 n = cone_normal(cone_, b);
     // Put the centre exactly on the centre cone, so that the next flight starts at distance 0.
     const double delta = dot(n, state_.r);
     state_.r = state_.r - delta * n;
+    // Next to a closed cone's vertex the generator's line goes on past the apex, to the far side
+    // of the axis: a centre projected there is at the apex (finding 26).
+    if (g_.closed && b.x * state_.r.x + b.z * state_.r.z < 0.0) state_.r = {};
     const Collision3 c = apply_collision(EventKind::Face, n, azimuthal_direction(b));
     if (c.p_after >= params_.p_c) {
       FlightStart3 start;
