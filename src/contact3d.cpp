@@ -594,7 +594,9 @@ Face right_face(const Geometry& g) {
 }  // namespace
 
 Contact3Result face_contact(const State3& start, const Cone& cone, const Material& m, const Contact3Options& opt) {
-  const Vec3 b = meridian_direction(start.r);
+  // On the axis (a closed cone's vertex, after a collapse there) the contact is on the generator
+  // of the collision that collapsed (docs/robustness.md, finding 26).
+  const Vec3 b = start.r.x == 0.0 && start.r.z == 0.0 ? opt.axis_side : meridian_direction(start.r);
   if (!(opt.closed_forms && in_meridian_plane(start, b))) return integrate(false, start, cone, m, opt);
   // In the meridian half-plane b the face is the 2D funnel's right wall.
   const ContactResult r = slide_on_face(to_meridian(start, b), right_face(cone.g), 1.0, m);

@@ -170,9 +170,11 @@ class Run3 {
       start.on_face = true;
       return start;
     }
-    // Inelastic collapse: drop the residual normal speed and go on in sustained contact.
+    // Inelastic collapse: drop the residual normal speed and go on in sustained contact (on this
+    // generator, also when the centre is at a closed cone's vertex).
     const State3 before = state_;
     state_.v = state_.v - c.p_after * n;
+    opt_.axis_side = b;
     return sustained_contact(false, before);
   }
 

@@ -36,6 +36,10 @@ struct Contact3Options {
   double abs_tol = 1e-14;       ///< absolute tolerance of the integrator (per step)
   bool detect_periodic = true;  ///< extrapolate conservative contacts once a radial period has repeated
   bool closed_forms = true;     ///< use the 2D closed forms for motion in a meridian plane
+  /// Unit horizontal direction of the meridian half-plane of a face contact whose centre starts on
+  /// the axis (a closed cone's vertex, which every generator reaches): the generator of the
+  /// collision that collapsed there. The position alone gives no half-plane.
+  Vec3 axis_side{1.0, 0.0, 0.0};
   /// Once set, an integrated contact stops within 1024 steps, as at the step guard (TimeCap): a
   /// cancelled ensemble (Ctrl-C) does not wait for its long contacts. Its results are discarded.
   const std::atomic<bool>* cancel = nullptr;
