@@ -210,9 +210,7 @@ TEST(Contact3d, RotatingTheStartAboutTheAxisRotatesTheContact) {
   const State3 s = on_cone(c, 0.15, 0.0, 0.3, 0.03, {10.0, 5.0, -20.0});
   const Contact3Result a = face_contact(s, c, m, budget(1e5));
   for (const double angle : {0.7, 2.5, -1.9}) {
-    auto rot = [&](Vec3 v) {  // right-handed about +y
-      return Vec3{v.x * std::cos(angle) + v.z * std::sin(angle), v.y, -v.x * std::sin(angle) + v.z * std::cos(angle)};
-    };
+    auto rot = [&](Vec3 v) { return test::rotate(v, angle); };
     const Contact3Result b = face_contact({rot(s.r), rot(s.v), rot(s.omega)}, c, m, budget(1e5));
     EXPECT_EQ(a.how, b.how);
     EXPECT_TRUE(near(b.duration, a.duration, 1e-10));

@@ -16,6 +16,7 @@ namespace funnel {
 namespace {
 
 using test::near;
+using test::rotate;
 
 Params params_with(double theta, double e, double mu, double beta0 = 0.0, double gap = 0.04) {
   Params p = default_params();
@@ -27,11 +28,6 @@ Params params_with(double theta, double e, double mu, double beta0 = 0.0, double
   return p;
 }
 
-/// Rotation by `angle` about the vertical axis (right-handed about +y).
-Vec3 rotate(Vec3 v, double angle) {
-  return {v.x * std::cos(angle) + v.z * std::sin(angle), v.y, -v.x * std::sin(angle) + v.z * std::cos(angle)};
-}
-State3 rotate(const State3& s, double angle) { return {rotate(s.r, angle), rotate(s.v, angle), rotate(s.omega, angle)}; }
 
 bool close(Vec3 a, Vec3 b, double tol) { return norm(a - b) <= tol * (1.0 + norm(a)); }
 

@@ -27,6 +27,7 @@
 #include "funnel/engine3d.hpp"
 #include "funnel/params.hpp"
 #include "funnel/random.hpp"
+#include "test_util.hpp"
 
 namespace funnel {
 namespace {
@@ -109,32 +110,18 @@ Case draw_case(std::uint64_t seed, std::uint64_t k) {
   }
 }
 
-/// The command line that reruns a case (the turned copy is described by its angle).
+/// The command line that reruns a case (the turned copy is described by its angle): every
+/// parameter of the project's table whose value is not its default.
 std::string command(const Case& c) {
-  const Params& p = c.p;
+  const Params defaults = default_params();
   std::string s = "funnel trajectory --space 3d --events";
-  auto add = [&](const char* name, double v) { s += std::string(" --") + name + " " + format_number(v); };
-  add("theta", p.theta);
-  add("e", p.e);
-  add("mu", p.mu);
-  add("beta0", p.beta0);
-  add("radius", p.radius);
-  add("gap", p.gap);
-  add("inertia", p.inertia);
-  add("t-max", p.t_max);
-  add("max-collisions", static_cast<double>(p.max_collisions));
-  add("release", c.release);
-  add("release-u", p.release_u);
-  add("release-v", p.release_v);
-  add("release-w", p.release_w);
-  add("release-spin", p.release_spin);
-  add("release-spin-x", p.release_spin_x);
-  add("release-spin-y", p.release_spin_y);
-  return s + " (turned copy: " + format_number(c.turn) + " rad about the axis)";
-}
-
-Vec3 turn(Vec3 v, double angle) {
-  return {v.x * std::cos(angle) + v.z * std::sin(angle), v.y, -v.x * std::sin(angle) + v.z * std::cos(angle)};
+  for (const ParameterInfo& info : parameters(Space::ThreeD)) {
+    if (info.option && info.get(c.p) != info.get(defaults)) {
+      s += " --" + std::string(info.name) + " " + format_number(info.get(c.p));
+    }
+  }
+  return s + " --release " + format_number(c.release) + " (turned copy: " + format_number(c.turn) +
+         " rad about the axis)";
 }
 
 bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -259,7 +246,7 @@ TEST(Random3d, EveryInvariantHoldsOverRandomReleasesAndTheirTurnedCopies) {
     const Case c = draw_case(seed, static_cast<std::uint64_t>(k));
     const Cone cone = make_cone(c.p);
     const State3 s = release_state_3d(c.p, cone, c.release);
-    const State3 turned{turn(s.r, c.turn), turn(s.v, c.turn), turn(s.omega, c.turn)};
+    const State3 turned = test::rotate(s, c.turn);
     const Outcome a = run_case(c, cone, s);
     const Outcome b = run_case(c, cone, turned);
     std::vector<std::string> failures = a.failures;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "funnel/cone.hpp"
 #include "funnel/engine.hpp"
 #include "same_bits.hpp"
 
@@ -33,6 +34,15 @@ inline ::testing::AssertionResult same_trajectory(const Trajectory3& a, const Tr
   return ::testing::AssertionFailure() << "duration " << a.duration << " vs " << b.duration << ", collisions "
                                        << a.collisions << " vs " << b.collisions << ", impulse " << a.impulse
                                        << " vs " << b.impulse << ", ode steps " << a.ode_steps << " vs " << b.ode_steps;
+}
+
+/// Rotation by `angle` about the vertical axis (right-handed about +y).
+inline Vec3 rotate(Vec3 v, double angle) {
+  return {v.x * std::cos(angle) + v.z * std::sin(angle), v.y, -v.x * std::sin(angle) + v.z * std::cos(angle)};
+}
+/// A 3D state rotated by `angle` about the vertical axis: position, velocity and spin.
+inline State3 rotate(const State3& s, double angle) {
+  return {rotate(s.r, angle), rotate(s.v, angle), rotate(s.omega, angle)};
 }
 
 }  // namespace funnel::test
