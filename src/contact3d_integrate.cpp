@@ -565,21 +565,16 @@ Surface make_surface(bool torus, const Cone& cone, const Material& m) {
   return sf;
 }
 
-Contact3Result integrate(bool torus, const State3& start, const Cone& cone, const Material& m,
-                         const Contact3Options& opt) {
-  const Surface sf = make_surface(torus, cone, m);
-  Integrated run(sf, cone, m, opt);
-  run.phi_start_ = coordinates(sf, start)[PHI];
-  return run.run(start);
-}
-
 }  // namespace
 
 namespace detail {
 
 Contact3Result integrate_contact(bool torus, const State3& start, const Cone& cone, const Material& m,
                                  const Contact3Options& opt) {
-  return integrate(torus, start, cone, m, opt);
+  const Surface sf = make_surface(torus, cone, m);
+  Integrated run(sf, cone, m, opt);
+  run.phi_start_ = coordinates(sf, start)[PHI];
+  return run.run(start);
 }
 
 }  // namespace detail
