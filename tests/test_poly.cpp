@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <bit>
+#include <cstdint>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "test_util.hpp"
@@ -89,6 +92,104 @@ TEST(Poly, GrazingApproachIsFoundAndAMissIsNot) {
   }
   base.c = {1.0 + 1e-12, -2.0, 1.0};
   EXPECT_EQ(first_descending_root(base * pos, 5.0), std::numeric_limits<double>::infinity());
+}
+
+/// Random polynomials of degree 2..8 whose roots crowd [0, hi] and its ends (double roots, pairs a
+/// few ulps apart, roots just outside), times a positive quadratic sometimes: the hard cases for
+/// a proof that a polynomial keeps its sign.
+struct HardPolys {
+  std::mt19937_64 rng;
+  explicit HardPolys(std::uint64_t seed) : rng(seed) {}
+  double uniform(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
+  Poly next(double hi, std::vector<double>& roots) {
+    roots.clear();
+    const int degree = 2 + static_cast<int>(rng() % 7);
+    while (static_cast<int>(roots.size()) < degree) {
+      const int kind = static_cast<int>(rng() % 6);
+      double r = kind == 0   ? uniform(-hi, 2.0 * hi)
+                 : kind == 1 ? hi * (1.0 + std::ldexp(uniform(-1.0, 1.0), -static_cast<int>(rng() % 50)))  // next to hi
+                 : kind == 2 ? hi * std::ldexp(uniform(-1.0, 1.0), -static_cast<int>(rng() % 50))  // next to 0
+                 : kind == 3 && !roots.empty() ? roots.back()  // a double root
+                 : kind == 4 && !roots.empty() ? roots.back() * (1.0 + std::ldexp(uniform(-1.0, 1.0), -48))
+                                               : uniform(1.5 * hi, 3.0 * hi);
+      roots.push_back(r);
+    }
+    Poly p = from_roots(roots);
+    if (degree <= 6 && rng() % 2 == 0) {
+      Poly q;  // (t - m)^2 + w^2 > 0
+      q.degree = 2;
+      const double m = uniform(0.0, hi), w = hi * std::ldexp(1.0, -static_cast<int>(rng() % 40));
+      q.c = {m * m + w * w, -2.0 * m, 1.0};
+      p = p * q;
+    }
+    const double scale = std::ldexp(uniform(0.5, 1.0) * (rng() % 2 == 0 ? 1.0 : -1.0), static_cast<int>(rng() % 40) - 20);
+    for (int k = 0; k <= p.degree; ++k) p.c[static_cast<std::size_t>(k)] *= scale;
+    return p;
+  }
+};
+
+double step_ulps(double t, std::int64_t k) {
+  return std::bit_cast<double>(std::bit_cast<std::int64_t>(t) + k);
+}
+
+TEST(Poly, OneSignFromZeroHoldsAtEveryDoubleItClaims) {
+  // Wherever the Bernstein proof says p keeps one sign on [0, hi], Horner's value must have that
+  // sign, nonzero, at the doubles where it is most likely not to: next to each root of p (in
+  // and just beyond [0, hi]), at both ends and at random points; and real_roots (without the
+  // shortcut) must find no root there. The proof must also say yes often, or it would be worth
+  // nothing (and this test would test nothing).
+  HardPolys gen(20261125);
+  std::vector<double> roots;
+  int proved = 0, refused = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const double hi = std::ldexp(gen.uniform(0.5, 1.0), static_cast<int>(gen.rng() % 60) - 30);
+    const Poly p = gen.next(hi, roots);
+    if (!detail::one_sign_from_zero(p, hi)) {
+      ++refused;
+      continue;
+    }
+    ++proved;
+    const bool positive = p(0.0) > 0.0;
+    std::vector<double> ts{0.0, hi, std::nextafter(hi, 0.0)};
+    for (const double r : roots) {
+      const double t0 = std::clamp(r, 0.0, hi);
+      for (std::int64_t k = -40; k <= 40; ++k) {
+        const double t = t0 > 0.0 ? step_ulps(t0, k) : std::ldexp(static_cast<double>(std::abs(k)), -1074);
+        if (t >= 0.0 && t <= hi) ts.push_back(t);
+      }
+    }
+    for (int k = 0; k < 64; ++k) ts.push_back(gen.uniform(0.0, hi));
+    for (const double t : ts) {
+      const double v = p(t);
+      ASSERT_TRUE(positive ? v > 0.0 : v < 0.0) << "n " << n << " t " << t << " p(t) " << v;
+    }
+    std::array<double, 8> found{};
+    ASSERT_EQ(detail::real_roots_reference(p, 0.0, hi, found), 0) << n;
+  }
+  EXPECT_GT(proved, 2000);
+  EXPECT_GT(refused, 2000);
+}
+
+TEST(Poly, TheRootsAreTheSameBitsWithAndWithoutTheOneSignShortcut) {
+  // The shortcut skips the search of a derivative's roots where it has none: the knots, and so
+  // every root, must be the very same doubles as the full search's.
+  HardPolys gen(77);
+  std::vector<double> roots;
+  int differing_paths = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const double hi = std::ldexp(gen.uniform(0.5, 1.0), static_cast<int>(gen.rng() % 20) - 10);
+    const Poly p = gen.next(hi, roots);
+    const double t = first_descending_root(p, hi), t_ref = detail::first_descending_root_reference(p, hi);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(t), std::bit_cast<std::uint64_t>(t_ref)) << n;
+    std::array<double, 8> a{}, b{};
+    const int na = real_roots(p, 0.0, hi, a), nb = detail::real_roots_reference(p, 0.0, hi, b);
+    ASSERT_EQ(na, nb) << n;
+    for (int k = 0; k < na; ++k) {
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(a[static_cast<std::size_t>(k)]), std::bit_cast<std::uint64_t>(b[static_cast<std::size_t>(k)])) << n;
+    }
+    differing_paths += p.degree >= 3 && detail::one_sign_from_zero(p.derivative(), hi);
+  }
+  EXPECT_GT(differing_paths, 1000);  // the shortcut was taken, not only the full search
 }
 
 }  // namespace

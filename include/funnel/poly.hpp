@@ -29,4 +29,18 @@ int real_roots(const Poly& p, double lo, double hi, std::array<double, 8>& roots
 /// lowest nonzero coefficient. Returns +infinity if there is none.
 double first_descending_root(const Poly& p, double t_end);
 
+namespace detail {
+
+/// True when Horner's value of p (Poly::operator()) is nonzero and of one sign at every double
+/// t in [0, hi], proved from p's Bernstein coefficients on [0, hi] with a margin for every
+/// rounding; false when that cannot be shown (it may still be so).
+bool one_sign_from_zero(const Poly& p, double hi);
+
+/// real_roots and first_descending_root without the shortcut of one_sign_from_zero: the whole
+/// chain of derivatives searched. The same bits (tests/test_poly.cpp compares them).
+int real_roots_reference(const Poly& p, double lo, double hi, std::array<double, 8>& roots);
+double first_descending_root_reference(const Poly& p, double t_end);
+
+}  // namespace detail
+
 }  // namespace funnel
