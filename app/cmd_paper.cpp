@@ -101,8 +101,11 @@ std::string default_paper_dir() {
 /// what Python says apart from its per-figure lines; returns false (after saying why) if it fails.
 bool make_plots(const std::string& dir, const std::vector<FigureSpec>& figs) {
   const std::string python = python_interpreter();
+  // An installed package is used only if it is there: a binary copied to a prefix whose
+  // site-packages directory exists without it (e.g. /usr/local/bin, with Debian's
+  // /usr/local/lib/python3.X/dist-packages) uses the build's.
   std::string path = installed_dir(FUNNEL_INSTALL_PYTHON_DIR);
-  if (path.empty()) path = FUNNEL_PYTHON_PATH;
+  if (path.empty() || !fs::is_regular_file(fs::path(path) / "funnel" / "__init__.py")) path = FUNNEL_PYTHON_PATH;
   if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += std::string(":") + old;
   int pipe_fd[2];
   if (pipe2(pipe_fd, O_CLOEXEC) != 0) return false;

@@ -21,9 +21,9 @@ struct Result {
   std::string output;  ///< stdout and stderr together
 };
 
-/// Runs `funnel ARGS` through the shell (so ARGS may hold redirections and variables).
-inline Result run(const std::string& args, const std::string& env = "") {
-  const std::string cmd = env + (env.empty() ? "" : " ") + std::string(FUNNEL_BINARY) + " " + args + " 2>&1";
+/// Runs `BINARY ARGS` through the shell (so ARGS may hold redirections and variables).
+inline Result run_binary(const std::string& binary, const std::string& args, const std::string& env = "") {
+  const std::string cmd = env + (env.empty() ? "" : " ") + binary + " " + args + " 2>&1";
   Result r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -34,6 +34,9 @@ inline Result run(const std::string& args, const std::string& env = "") {
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
 }
+
+/// Runs `funnel ARGS` (the build's binary) through the shell.
+inline Result run(const std::string& args, const std::string& env = "") { return run_binary(FUNNEL_BINARY, args, env); }
 
 inline std::string read_source(const std::string& file) {
   std::ifstream in(file);

@@ -268,6 +268,22 @@ TEST_F(Cli, PaperWithoutPythonWritesTheDataAndSaysWhyThereAreNoPictures) {
   EXPECT_NE(r.output.find("funnel paper: total wall time"), std::string::npos) << r.output;
 }
 
+TEST_F(Cli, ACopiedBinaryDrawsThePicturesWhereItsPrefixHasAnEmptySitePackages) {
+  // funnel copied to PREFIX/bin, where PREFIX's site-packages directory exists without the
+  // package (as /usr/local/lib/python3.X/dist-packages does on Debian): the pictures are drawn
+  // with the build's package, not left out with a Python that finds no module 'funnel'.
+  const std::string site = FUNNEL_INSTALL_PYTHON_DIR;
+  if (site.empty()) GTEST_SKIP() << "built without Python";
+  fs::create_directories(path("prefix/bin"));
+  fs::create_directories(path("prefix/" + site));
+  fs::copy_file(FUNNEL_BINARY, path("prefix/bin/funnel"));
+  fs::permissions(path("prefix/bin/funnel"), fs::perms::owner_all, fs::perm_options::add);
+  const Result r = run_binary(path("prefix/bin/funnel"), "paper --quick --only fig01 --out " + path("p"), "PYTHONPATH=");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("pictures not made"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(path("p/fig01/fig01.png"))) << r.output;
+}
+
 TEST_F(Cli, PaperShowsProgressOfClosedFunnelRunsAndSummarisesEachStage) {
   // Not a terminal: one line per stage. FUNNEL_PROGRESS=always: the bar of Fig. 12's runs.
   const std::string args = "paper --quick --only fig12 --out " + path("p");
