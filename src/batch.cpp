@@ -1,4 +1,4 @@
-// The batched face-to-face step: trajectories of one funnel in the lanes of a SIMD vector, with
+// The batched face-to-face step: trajectories of one funnel in the lanes of two SIMD vectors, with
 // run-time dispatch to the widest instruction set of the CPU (Highway: SSE4, AVX2, AVX-512), for
 // their flights between the walls' top faces above every edge (src/engine.cpp batchable says
 // which funnels qualify). Each lane computes exactly what the scalar engine computes for its
@@ -56,237 +56,372 @@ SideV broadcast(D d, const SideConstants& s) {
           hn::Set(d, s.radius)};
 }
 
+// Two tracks of lanes step side by side, as pairs of vectors: every operation below is done on
+// both, one after the other, so that the chain of dependent square roots and divisions of one
+// track's round overlaps the other's in the CPU (one track alone waits on its divider most of the
+// time). Each lane still computes exactly what it would alone.
+struct V2 {
+  V a, b;
+};
+struct M2 {
+  M a, b;
+};
+
+template <int i>
+HWY_INLINE V at(V x) {
+  return x;
+}
+template <int i>
+HWY_INLINE V at(const V2& x) {
+  return i == 0 ? x.a : x.b;
+}
+template <int i>
+HWY_INLINE M at(M x) {
+  return x;
+}
+template <int i>
+HWY_INLINE M at(const M2& x) {
+  return i == 0 ? x.a : x.b;
+}
+
+// Binary operations on pairs, or on a pair and a vector (a constant, the same for both tracks).
+#define FUNNEL_PAIR_BINARY(name, op, R)                               \
+  template <class X, class Y>                                         \
+  HWY_INLINE R name(const X& x, const Y& y) {                         \
+    return {hn::op(at<0>(x), at<0>(y)), hn::op(at<1>(x), at<1>(y))}; \
+  }
+FUNNEL_PAIR_BINARY(add, Add, V2)
+FUNNEL_PAIR_BINARY(sub, Sub, V2)
+FUNNEL_PAIR_BINARY(mul, Mul, V2)
+FUNNEL_PAIR_BINARY(div, Div, V2)
+FUNNEL_PAIR_BINARY(max, Max, V2)
+FUNNEL_PAIR_BINARY(eq, Eq, M2)
+FUNNEL_PAIR_BINARY(ne, Ne, M2)
+FUNNEL_PAIR_BINARY(lt, Lt, M2)
+FUNNEL_PAIR_BINARY(le, Le, M2)
+FUNNEL_PAIR_BINARY(gt, Gt, M2)
+FUNNEL_PAIR_BINARY(ge, Ge, M2)
+FUNNEL_PAIR_BINARY(both, And, M2)
+FUNNEL_PAIR_BINARY(either, Or, M2)
+FUNNEL_PAIR_BINARY(but_not, AndNot, M2)  // but_not(a, b): b and not a
+#undef FUNNEL_PAIR_BINARY
+
+HWY_INLINE V2 sqrt(const V2& x) { return {hn::Sqrt(x.a), hn::Sqrt(x.b)}; }
+HWY_INLINE V2 abs(const V2& x) { return {hn::Abs(x.a), hn::Abs(x.b)}; }
+template <class X, class Y>
+HWY_INLINE V2 choose(const M2& m, const X& x, const Y& y) {
+  return {hn::IfThenElse(m.a, at<0>(x), at<0>(y)), hn::IfThenElse(m.b, at<1>(x), at<1>(y))};
+}
+template <class X>
+HWY_INLINE V2 choose_or_zero(const M2& m, const X& x) {
+  return {hn::IfThenElseZero(m.a, at<0>(x)), hn::IfThenElseZero(m.b, at<1>(x))};
+}
+
 /// line_arrival_time (src/roots.cpp) for delta0 >= 0, given s = sqrt(p^2 + 2 delta0 c) where
 /// delta0 != 0: one division of the operands the scalar engine divides (the same quotient).
 /// `ok` is false where delta0 < 0 (behind the line: the scalar engine decides).
-V line_time(D d, V delta0, V p, V c, V s, M& ok) {
+V2 line_time(D d, const V2& delta0, const V2& p, V c, const V2& s, M2& ok) {
   const V zero = hn::Zero(d);
-  ok = hn::Ge(delta0, zero);
-  const M ahead = hn::Ge(p, zero);
-  const M on_line = hn::Eq(delta0, zero);
+  ok = ge(delta0, zero);
+  const M2 ahead = ge(p, zero);
+  const M2 on_line = eq(delta0, zero);
   // On the line: 2p/c, or 0 when moving inward (0/c = +0). Off it: (p + s)/c or 2 delta0/(s - p).
   const V two = hn::Set(d, 2.0);
-  const V num = hn::IfThenElse(on_line, hn::IfThenElseZero(ahead, hn::Mul(two, p)),
-                               hn::IfThenElse(ahead, hn::Add(p, s), hn::Mul(two, delta0)));
-  const V den = hn::IfThenElse(hn::Or(on_line, ahead), c, hn::Sub(s, p));
-  return hn::Div(num, den);
+  const V2 num = choose(on_line, choose_or_zero(ahead, mul(two, p)), choose(ahead, add(p, s), mul(two, delta0)));
+  const V2 den = choose(either(on_line, ahead), c, sub(s, p));
+  return div(num, den);
 }
 
 /// The argument of line_arrival_time's square root, p^2 + 2 delta0 c.
-V line_root_argument(D d, V delta0, V p, V c) {
-  return hn::Add(hn::Mul(p, p), hn::Mul(hn::Mul(hn::Set(d, 2.0), delta0), c));
+V2 line_root_argument(D d, const V2& delta0, const V2& p, V c) {
+  return add(mul(p, p), mul(mul(hn::Set(d, 2.0), delta0), c));
 }
 
-V select(M m, V a, V b) { return hn::IfThenElse(m, a, b); }
+/// The constants of one call, broadcast.
+struct Context {
+  SideV left, right;
+  V zero, one, minus_one, half, two, inf, skip, y_exit, t_max, p_c, max_collisions;
+  V code_left, code_right, code_fresh;
+  V y_rest, eps_rest, spin_energy, window, slip_tol, height_tol;
+  // The watch's speed is glibc's hypot, within an ulp or two of sqrt(u^2 + v^2): a lane decides
+  // the slip test only outside this relative margin (and without under- or overflow).
+  V below, above, tiny, huge;
+  bool low_landing, closed, watch;
+};
+
+Context context(D d, const Constants& k) {
+  return {broadcast(d, k.side[0]),
+          broadcast(d, k.side[1]),
+          hn::Zero(d),
+          hn::Set(d, 1.0),
+          hn::Set(d, -1.0),
+          hn::Set(d, 0.5),
+          hn::Set(d, 2.0),
+          hn::Inf(d),
+          hn::Set(d, k.skip_height),
+          hn::Set(d, k.y_exit),
+          hn::Set(d, k.t_max),
+          hn::Set(d, k.p_c),
+          hn::Set(d, k.max_collisions),
+          hn::Set(d, start_left),
+          hn::Set(d, start_right),
+          hn::Set(d, start_fresh),
+          hn::Set(d, k.y_rest),
+          hn::Set(d, k.eps_rest),
+          hn::Set(d, k.spin_energy),
+          hn::Set(d, k.window),
+          hn::Set(d, k.slip_tol),
+          hn::Set(d, k.height_tol),
+          hn::Set(d, 1.0 - 1e-14),
+          hn::Set(d, 1.0 + 1e-14),
+          hn::Set(d, 1e-280),
+          hn::Set(d, 1e280),
+          k.low_landing != 0.0,
+          k.closed != 0.0,
+          k.watch != 0.0};
+}
+
+/// The trajectories of the two tracks, held in registers while they step.
+struct Tracks {
+  V2 rx, ry, vx, vy, omega, time, impulse, normal_impulse, energy_loss, collisions, start, slid;
+  V2 streak, have_last, last_wall, last_x, last_y, prev_x, prev_y;  // the orbit watch's memory
+  M2 busy;
+};
+
+/// Lanes [0, n) as the first track and [n, 2n) as the second, n = Lanes(d).
+HWY_INLINE V2 load(D d, const double* p) { return {hn::Load(d, p), hn::Load(d, p + hn::Lanes(d))}; }
+
+HWY_INLINE void store(D d, const V2& x, double* p) {
+  hn::Store(x.a, d, p);
+  hn::Store(x.b, d, p + hn::Lanes(d));
+}
+
+HWY_INLINE Tracks load(D d, const Lanes& L, bool watch) {
+  Tracks t;
+  t.rx = load(d, L.rx);
+  t.ry = load(d, L.ry);
+  t.vx = load(d, L.vx);
+  t.vy = load(d, L.vy);
+  t.omega = load(d, L.omega);
+  t.time = load(d, L.time);
+  t.impulse = load(d, L.impulse);
+  t.normal_impulse = load(d, L.normal_impulse);
+  t.energy_loss = load(d, L.energy_loss);
+  t.collisions = load(d, L.collisions);
+  t.start = load(d, L.start);
+  t.slid = load(d, L.slid);
+  if (watch) {
+    t.streak = load(d, L.streak);
+    t.have_last = load(d, L.have_last);
+    t.last_wall = load(d, L.last_wall);
+    t.last_x = load(d, L.last_x);
+    t.last_y = load(d, L.last_y);
+    t.prev_x = load(d, L.prev_x);
+    t.prev_y = load(d, L.prev_y);
+  } else {
+    const V2 zero{hn::Zero(d), hn::Zero(d)};
+    t.streak = t.have_last = t.last_wall = t.last_x = t.last_y = t.prev_x = t.prev_y = zero;
+  }
+  t.busy = lt(t.start, hn::Set(d, start_idle));
+  return t;
+}
+
+HWY_INLINE void store(D d, const Tracks& t, Lanes& L, bool watch) {
+  store(d, t.rx, L.rx);
+  store(d, t.ry, L.ry);
+  store(d, t.vx, L.vx);
+  store(d, t.vy, L.vy);
+  store(d, t.omega, L.omega);
+  store(d, t.time, L.time);
+  store(d, t.impulse, L.impulse);
+  store(d, t.normal_impulse, L.normal_impulse);
+  store(d, t.energy_loss, L.energy_loss);
+  store(d, t.collisions, L.collisions);
+  store(d, t.start, L.start);
+  store(d, t.slid, L.slid);
+  if (watch) {
+    store(d, t.streak, L.streak);
+    store(d, t.have_last, L.have_last);
+    store(d, t.last_wall, L.last_wall);
+    store(d, t.last_x, L.last_x);
+    store(d, t.last_y, L.last_y);
+    store(d, t.prev_x, L.prev_x);
+    store(d, t.prev_y, L.prev_y);
+  }
+}
+
+/// One round of both tracks: every busy lane whose next event is the common one takes its flight
+/// and face collision. Returns the busy lanes whose next event is not (left as they were).
+HWY_INLINE M2 round(D d, const Context& c, Tracks& t) {
+  const SideV& left = c.left;
+  const SideV& right = c.right;
+  const V zero = c.zero, one = c.one, half = c.half, two = c.two;
+  // A flight that began on one face's line (FlightStart with on_face alone), or a release's
+  // first flight (nothing set), is the common case.
+  const M2 on_left = eq(t.start, c.code_left);
+  const M2 on_right = eq(t.start, c.code_right);
+  const M2 fresh = eq(t.start, c.code_fresh);  // (an idle lane has its own code)
+  const M2 simple = either(either(on_left, on_right), fresh);
+  // The two faces' line times (src/flight.cpp line_time): distance 0 on the face just left;
+  // only the other face needs the square root, but both do for a release.
+  const V2 p_left = add(mul(t.vx, left.nx), mul(t.vy, left.ny));
+  const V2 p_right = add(mul(t.vx, right.nx), mul(t.vy, right.ny));
+  const V2 dist_left = add(mul(left.nx, sub(t.rx, left.refx)), mul(left.ny, sub(t.ry, left.refy)));
+  const V2 dist_right =
+      add(mul(right.nx, sub(t.rx, right.refx)), mul(right.ny, sub(t.ry, right.refy)));
+  const V2 delta_left = choose(on_left, zero, dist_left);
+  const V2 delta_right = choose(on_right, zero, dist_right);
+  const V2 arg_right = line_root_argument(d, delta_right, p_right, right.ny);
+  const V2 root = sqrt(choose(on_left, arg_right, line_root_argument(d, delta_left, p_left, left.ny)));
+  // The right face's root: `root` after the left face, its own after a release (a second
+  // square root only in the rounds that hold one).
+  const V2 root_right{hn::AllFalse(d, fresh.a) ? root.a : hn::IfThenElse(fresh.a, hn::Sqrt(arg_right.a), root.a),
+                      hn::AllFalse(d, fresh.b) ? root.b : hn::IfThenElse(fresh.b, hn::Sqrt(arg_right.b), root.b)};
+  M2 ok_left, ok_right;
+  const V2 t_left = line_time(d, delta_left, p_left, left.ny, root, ok_left);
+  const V2 t_right = line_time(d, delta_right, p_right, right.ny, root_right, ok_right);
+  // The earlier line, the left one on a tie; its face's region must be reached.
+  const M2 first_left = le(t_left, t_right);
+  const V2 dt = choose(first_left, t_left, t_right);
+  const V2 nx = choose(first_left, left.nx, right.nx), ny = choose(first_left, left.ny, right.ny);
+  const V2 ax = add(t.rx, mul(t.vx, dt));
+  const V2 ay = sub(add(t.ry, mul(t.vy, dt)), mul(mul(half, dt), dt));
+  const V2 along =
+      add(mul(choose(first_left, left.upx, right.upx), sub(ax, choose(first_left, left.lowx, right.lowx))),
+          mul(choose(first_left, left.upy, right.upy), sub(ay, choose(first_left, left.lowy, right.lowy))));
+  const V2 new_time = add(t.time, dt);
+  M2 common = both(both(t.busy, simple), both(ok_left, ok_right));
+  common = both(common, lt(dt, c.inf));
+  if (!c.closed) {
+    // On the face's region; above every edge arc, ending on a face above them (the search's
+    // fast path). A closed V's faces reach the vertex: no region to check, no edge, no exit.
+    common = both(common, ge(along, zero));
+    const M2 low_ok = eq(choose(first_left, left.low_ok, right.low_ok), one);
+    if (c.low_landing) {
+      // A face whose region reaches below the edge arcs: the search's slow path then finds no
+      // edge (the flight starts and ends strictly above every arc's top: edge_time's first
+      // test, on the same y_end = ay) and checks the exit (src/flight.cpp exit_time), which
+      // must come later than the face.
+      const V2 h = max(sub(t.ry, c.y_exit), zero);
+      const V2 exit_root = sqrt(add(mul(t.vy, t.vy), mul(two, h)));
+      const V2 t_exit = choose(ge(t.vy, zero), add(t.vy, exit_root), div(mul(two, h), sub(exit_root, t.vy)));
+      const M2 high = both(gt(ay, c.skip), gt(t_exit, dt));
+      common = both(common, both(gt(t.ry, c.skip), either(low_ok, high)));
+    } else {
+      common = both(common, both(gt(t.ry, c.skip), low_ok));
+    }
+  }
+  // Within the time cap, and time advances.
+  common = both(common, both(le(new_time, c.t_max), gt(new_time, t.time)));
+
+  // The face collision (src/engine.cpp face_collision): the centre put on the face's line.
+  const V2 fy = sub(t.vy, dt);
+  const V2 delta = add(mul(nx, sub(ax, choose(first_left, left.refx, right.refx))),
+                       mul(ny, sub(ay, choose(first_left, left.refy, right.refy))));
+  const V2 cx = sub(ax, mul(delta, nx));
+  const V2 cy = sub(ay, mul(delta, ny));
+  // Walton's law (src/walton.cpp collide), t = (n_y, -n_x).
+  const V2 neg_nx = choose(first_left, left.neg_nx, right.neg_nx);
+  const V2 p = add(mul(t.vx, nx), mul(fy, ny));
+  const V2 q = add(mul(t.vx, ny), mul(fy, neg_nx));
+  const V2 slip = add(q, mul(choose(first_left, left.radius, right.radius), t.omega));
+  const V2 p_after = mul(choose(first_left, left.neg_e, right.neg_e), p);
+  const V2 abs_p = abs(p);
+  const V2 j_n = mul(choose(first_left, left.one_plus_e, right.one_plus_e), abs_p);
+  const V2 one_plus_beta0 = choose(first_left, left.one_plus_beta0, right.one_plus_beta0);
+  const M2 sliding = lt(mul(choose(first_left, left.slide_factor, right.slide_factor), abs_p),
+                         mul(one_plus_beta0, abs(slip)));
+  const V2 sign = choose(gt(slip, zero), one, c.minus_one);
+  const V2 j_slide = mul(mul(choose(first_left, left.mu_neg, right.mu_neg), j_n), sign);
+  const V2 j_stick = div(mul(choose(first_left, left.neg_one_plus_beta0, right.neg_one_plus_beta0), slip),
+                          choose(first_left, left.reduced, right.reduced));
+  const V2 j_t = choose(sliding, j_slide, j_stick);
+  const V2 q_after = add(q, j_t);
+  const V2 new_vx = add(mul(p_after, nx), mul(q_after, ny));
+  const V2 new_vy = add(mul(p_after, ny), mul(q_after, neg_nx));
+  const V2 new_omega = add(t.omega, div(j_t, choose(first_left, left.kappa_a, right.kappa_a)));
+  const V2 half_1_minus_e2 = choose(first_left, left.half_1_minus_e2, right.half_1_minus_e2);
+  const V2 lost = sub(sub(mul(mul(half_1_minus_e2, p), p), mul(j_t, slip)),
+                      mul(mul(choose(first_left, left.half_reduced, right.half_reduced), j_t), j_t));
+  const V2 j = sqrt(add(mul(j_n, j_n), mul(j_t, j_t)));
+  const V2 new_collisions = add(t.collisions, one);
+  // No collapse (normal speed at least p_c) and below the collision cap.
+  common = both(common, both(ge(p_after, c.p_c), lt(new_collisions, c.max_collisions)));
+  if (c.closed) {
+    // Energy above the bottom left (src/engine.cpp's rest test after each event).
+    const V2 e = add(
+        add(mul(half, add(mul(new_vx, new_vx), mul(new_vy, new_vy))), mul(mul(c.spin_energy, new_omega), new_omega)),
+        cy);
+    common = but_not(lt(sub(e, c.y_rest), c.eps_rest), common);
+  }
+  if (c.watch) {
+    // OrbitWatch::record (src/closed.cpp) for this collision: position (cx, cy), velocity
+    // before (vx, fy), slip before, the wall hit.
+    const V2 wall = choose(first_left, zero, one);
+    const V2 s2 = add(mul(t.vx, t.vx), mul(fy, fy));
+    const V2 bound = mul(c.slip_tol, sqrt(s2));
+    const V2 abs_slip = abs(slip);
+    const M2 sure_no_slip = le(abs_slip, mul(bound, c.below));
+    const M2 sure_slip = gt(abs_slip, mul(bound, c.above));
+    const M2 decided = both(either(sure_no_slip, sure_slip), both(ge(s2, c.tiny), le(s2, c.huge)));
+    const M2 seen = eq(t.have_last, one);
+    const M2 alternates = both(seen, ne(wall, t.last_wall));
+    const M2 level = both(seen, le(abs(sub(cy, t.last_y)), mul(c.height_tol, abs(cy))));
+    const V2 new_streak = choose_or_zero(both(both(alternates, sure_no_slip), level), add(t.streak, one));
+    // Decided, and not yet the orbit (the scalar engine ends the run there).
+    common = both(common, both(decided, lt(new_streak, c.window)));
+    t.streak = choose(common, new_streak, t.streak);
+    t.prev_x = choose(common, t.last_x, t.prev_x);
+    t.prev_y = choose(common, t.last_y, t.prev_y);
+    t.last_x = choose(common, cx, t.last_x);
+    t.last_y = choose(common, cy, t.last_y);
+    t.last_wall = choose(common, wall, t.last_wall);
+    t.have_last = choose(common, one, t.have_last);
+  }
+
+  t.rx = choose(common, cx, t.rx);
+  t.ry = choose(common, cy, t.ry);
+  t.vx = choose(common, new_vx, t.vx);
+  t.vy = choose(common, new_vy, t.vy);
+  t.omega = choose(common, new_omega, t.omega);
+  t.time = choose(common, new_time, t.time);
+  t.impulse = choose(common, add(t.impulse, j), t.impulse);
+  t.normal_impulse = choose(common, add(t.normal_impulse, j_n), t.normal_impulse);
+  t.energy_loss = choose(common, add(t.energy_loss, lost), t.energy_loss);
+  t.collisions = choose(common, new_collisions, t.collisions);
+  t.slid = choose(both(common, sliding), one, t.slid);
+  t.start = choose(common, choose(first_left, c.code_left, c.code_right), t.start);
+  return but_not(common, t.busy);
+}
+
+/// Appends the bits of `m` (one per lane) to `need` from bit `offset` on.
+HWY_INLINE std::uint32_t lane_bits(D d, M m, std::size_t offset) {
+  alignas(8) std::uint8_t bits[8] = {};
+  hn::StoreMaskBits(d, m, bits);
+  std::uint32_t out = 0;
+  for (int b = 0; b < 4; ++b) out |= static_cast<std::uint32_t>(bits[b]) << (8 * b);
+  return out << offset;
+}
 
 }  // namespace
 
 std::uint32_t FaceSteps(const Constants& k, Lanes& L) {
   const D d;
-  const SideV left = broadcast(d, k.side[0]);
-  const SideV right = broadcast(d, k.side[1]);
-  const V zero = hn::Zero(d);
-  const V one = hn::Set(d, 1.0);
-  const V minus_one = hn::Set(d, -1.0);
-  const V half = hn::Set(d, 0.5);
-  const V two = hn::Set(d, 2.0);
-  const V inf = hn::Inf(d);
-  const V skip = hn::Set(d, k.skip_height);
-  const bool low_landing = k.low_landing != 0.0;
-  const V y_exit = hn::Set(d, k.y_exit);
-  const V t_max = hn::Set(d, k.t_max);
-  const V p_c = hn::Set(d, k.p_c);
-  const V max_collisions = hn::Set(d, k.max_collisions);
-  const V code_left = hn::Set(d, start_left);
-  const V code_right = hn::Set(d, start_right);
-  const V code_fresh = hn::Set(d, start_fresh);
-  const bool closed = k.closed != 0.0;
-  const bool watch = k.watch != 0.0;
-  const V y_rest = hn::Set(d, k.y_rest), eps_rest = hn::Set(d, k.eps_rest), spin_energy = hn::Set(d, k.spin_energy);
-  const V window = hn::Set(d, k.window), slip_tol = hn::Set(d, k.slip_tol), height_tol = hn::Set(d, k.height_tol);
-  // The watch's speed is glibc's hypot, within an ulp or two of sqrt(u^2 + v^2): a lane decides
-  // the slip test only outside this relative margin (and without under- or overflow).
-  const V below = hn::Set(d, 1.0 - 1e-14), above = hn::Set(d, 1.0 + 1e-14);
-  const V tiny = hn::Set(d, 1e-280), huge = hn::Set(d, 1e280);
-
-  V rx = hn::Load(d, L.rx), ry = hn::Load(d, L.ry), vx = hn::Load(d, L.vx), vy = hn::Load(d, L.vy);
-  V omega = hn::Load(d, L.omega), time = hn::Load(d, L.time), impulse = hn::Load(d, L.impulse);
-  V normal_impulse = hn::Load(d, L.normal_impulse), energy_loss = hn::Load(d, L.energy_loss);
-  V collisions = hn::Load(d, L.collisions), start = hn::Load(d, L.start), slid = hn::Load(d, L.slid);
-  V streak = hn::Load(d, L.streak), have_last = hn::Load(d, L.have_last), last_wall = hn::Load(d, L.last_wall);
-  V last_x = hn::Load(d, L.last_x), last_y = hn::Load(d, L.last_y), prev_x = hn::Load(d, L.prev_x),
-    prev_y = hn::Load(d, L.prev_y);
-  const M busy = hn::Lt(start, hn::Set(d, start_idle));
-
+  const Context c = context(d, k);
+  Tracks t = load(d, L, c.watch);
   std::uint32_t need = 0;
   for (;;) {
-    // A flight that began on one face's line (FlightStart with on_face alone), or a release's
-    // first flight (nothing set), is the common case.
-    const M on_left = hn::Eq(start, code_left);
-    const M on_right = hn::Eq(start, code_right);
-    const M fresh = hn::Eq(start, code_fresh);  // (an idle lane has its own code)
-    const M simple = hn::Or(hn::Or(on_left, on_right), fresh);
-    // The two faces' line times (src/flight.cpp line_time): distance 0 on the face just left;
-    // only the other face needs the square root, but both do for a release.
-    const V p_left = hn::Add(hn::Mul(vx, left.nx), hn::Mul(vy, left.ny));
-    const V p_right = hn::Add(hn::Mul(vx, right.nx), hn::Mul(vy, right.ny));
-    const V dist_left = hn::Add(hn::Mul(left.nx, hn::Sub(rx, left.refx)), hn::Mul(left.ny, hn::Sub(ry, left.refy)));
-    const V dist_right =
-        hn::Add(hn::Mul(right.nx, hn::Sub(rx, right.refx)), hn::Mul(right.ny, hn::Sub(ry, right.refy)));
-    const V delta_left = select(on_left, zero, dist_left);
-    const V delta_right = select(on_right, zero, dist_right);
-    const V arg_right = line_root_argument(d, delta_right, p_right, right.ny);
-    const V root = hn::Sqrt(select(on_left, arg_right, line_root_argument(d, delta_left, p_left, left.ny)));
-    // The right face's root: `root` after the left face, its own after a release (a second
-    // square root only in the rounds that hold one).
-    const V root_right = hn::AllFalse(d, fresh) ? root : select(fresh, hn::Sqrt(arg_right), root);
-    M ok_left, ok_right;
-    const V t_left = line_time(d, delta_left, p_left, left.ny, root, ok_left);
-    const V t_right = line_time(d, delta_right, p_right, right.ny, root_right, ok_right);
-    // The earlier line, the left one on a tie; its face's region must be reached.
-    const M first_left = hn::Le(t_left, t_right);
-    const V dt = select(first_left, t_left, t_right);
-    const V nx = select(first_left, left.nx, right.nx), ny = select(first_left, left.ny, right.ny);
-    const V ax = hn::Add(rx, hn::Mul(vx, dt));
-    const V ay = hn::Sub(hn::Add(ry, hn::Mul(vy, dt)), hn::Mul(hn::Mul(half, dt), dt));
-    const V along = hn::Add(hn::Mul(select(first_left, left.upx, right.upx), hn::Sub(ax, select(first_left, left.lowx, right.lowx))),
-                            hn::Mul(select(first_left, left.upy, right.upy), hn::Sub(ay, select(first_left, left.lowy, right.lowy))));
-    const V new_time = hn::Add(time, dt);
-    M common = hn::And(hn::And(busy, simple), hn::And(ok_left, ok_right));
-    common = hn::And(common, hn::Lt(dt, inf));
-    if (!closed) {
-      // On the face's region; above every edge arc, ending on a face above them (the search's
-      // fast path). A closed V's faces reach the vertex: no region to check, no edge, no exit.
-      common = hn::And(common, hn::Ge(along, zero));
-      const M low_ok = hn::Eq(select(first_left, left.low_ok, right.low_ok), one);
-      if (low_landing) {
-        // A face whose region reaches below the edge arcs: the search's slow path then finds no
-        // edge (the flight starts and ends strictly above every arc's top: edge_time's first
-        // test, on the same y_end = ay) and checks the exit (src/flight.cpp exit_time), which
-        // must come later than the face.
-        const V h = hn::Max(hn::Sub(ry, y_exit), zero);
-        const V exit_root = hn::Sqrt(hn::Add(hn::Mul(vy, vy), hn::Mul(two, h)));
-        const V t_exit = select(hn::Ge(vy, zero), hn::Add(vy, exit_root), hn::Div(hn::Mul(two, h), hn::Sub(exit_root, vy)));
-        const M high = hn::And(hn::Gt(ay, skip), hn::Gt(t_exit, dt));
-        common = hn::And(common, hn::And(hn::Gt(ry, skip), hn::Or(low_ok, high)));
-      } else {
-        common = hn::And(common, hn::And(hn::Gt(ry, skip), low_ok));
-      }
-    }
-    // Within the time cap, and time advances.
-    common = hn::And(common, hn::And(hn::Le(new_time, t_max), hn::Gt(new_time, time)));
-
-    // The face collision (src/engine.cpp face_collision): the centre put on the face's line.
-    const V fy = hn::Sub(vy, dt);
-    const V delta = hn::Add(hn::Mul(nx, hn::Sub(ax, select(first_left, left.refx, right.refx))),
-                            hn::Mul(ny, hn::Sub(ay, select(first_left, left.refy, right.refy))));
-    const V cx = hn::Sub(ax, hn::Mul(delta, nx));
-    const V cy = hn::Sub(ay, hn::Mul(delta, ny));
-    // Walton's law (src/walton.cpp collide), t = (n_y, -n_x).
-    const V neg_nx = select(first_left, left.neg_nx, right.neg_nx);
-    const V p = hn::Add(hn::Mul(vx, nx), hn::Mul(fy, ny));
-    const V q = hn::Add(hn::Mul(vx, ny), hn::Mul(fy, neg_nx));
-    const V slip = hn::Add(q, hn::Mul(select(first_left, left.radius, right.radius), omega));
-    const V p_after = hn::Mul(select(first_left, left.neg_e, right.neg_e), p);
-    const V abs_p = hn::Abs(p);
-    const V j_n = hn::Mul(select(first_left, left.one_plus_e, right.one_plus_e), abs_p);
-    const V one_plus_beta0 = select(first_left, left.one_plus_beta0, right.one_plus_beta0);
-    const M sliding = hn::Lt(hn::Mul(select(first_left, left.slide_factor, right.slide_factor), abs_p),
-                             hn::Mul(one_plus_beta0, hn::Abs(slip)));
-    const V sign = select(hn::Gt(slip, zero), one, minus_one);
-    const V j_slide = hn::Mul(hn::Mul(select(first_left, left.mu_neg, right.mu_neg), j_n), sign);
-    const V j_stick = hn::Div(hn::Mul(select(first_left, left.neg_one_plus_beta0, right.neg_one_plus_beta0), slip),
-                              select(first_left, left.reduced, right.reduced));
-    const V j_t = select(sliding, j_slide, j_stick);
-    const V q_after = hn::Add(q, j_t);
-    const V new_vx = hn::Add(hn::Mul(p_after, nx), hn::Mul(q_after, ny));
-    const V new_vy = hn::Add(hn::Mul(p_after, ny), hn::Mul(q_after, neg_nx));
-    const V new_omega = hn::Add(omega, hn::Div(j_t, select(first_left, left.kappa_a, right.kappa_a)));
-    const V half_1_minus_e2 = select(first_left, left.half_1_minus_e2, right.half_1_minus_e2);
-    const V lost = hn::Sub(hn::Sub(hn::Mul(hn::Mul(half_1_minus_e2, p), p), hn::Mul(j_t, slip)),
-                           hn::Mul(hn::Mul(select(first_left, left.half_reduced, right.half_reduced), j_t), j_t));
-    const V j = hn::Sqrt(hn::Add(hn::Mul(j_n, j_n), hn::Mul(j_t, j_t)));
-    const V new_collisions = hn::Add(collisions, one);
-    // No collapse (normal speed at least p_c) and below the collision cap.
-    common = hn::And(common, hn::And(hn::Ge(p_after, p_c), hn::Lt(new_collisions, max_collisions)));
-    if (closed) {
-      // Energy above the bottom left (src/engine.cpp's rest test after each event).
-      const V e = hn::Add(hn::Add(hn::Mul(half, hn::Add(hn::Mul(new_vx, new_vx), hn::Mul(new_vy, new_vy))),
-                                  hn::Mul(hn::Mul(spin_energy, new_omega), new_omega)),
-                          cy);
-      common = hn::AndNot(hn::Lt(hn::Sub(e, y_rest), eps_rest), common);
-    }
-    if (watch) {
-      // OrbitWatch::record (src/closed.cpp) for this collision: position (cx, cy), velocity
-      // before (vx, fy), slip before, the wall hit.
-      const V wall = select(first_left, zero, one);
-      const V s2 = hn::Add(hn::Mul(vx, vx), hn::Mul(fy, fy));
-      const V bound = hn::Mul(slip_tol, hn::Sqrt(s2));
-      const V abs_slip = hn::Abs(slip);
-      const M sure_no_slip = hn::Le(abs_slip, hn::Mul(bound, below));
-      const M sure_slip = hn::Gt(abs_slip, hn::Mul(bound, above));
-      const M decided = hn::And(hn::Or(sure_no_slip, sure_slip), hn::And(hn::Ge(s2, tiny), hn::Le(s2, huge)));
-      const M seen = hn::Eq(have_last, one);
-      const M alternates = hn::And(seen, hn::Ne(wall, last_wall));
-      const M level = hn::And(seen, hn::Le(hn::Abs(hn::Sub(cy, last_y)), hn::Mul(height_tol, hn::Abs(cy))));
-      const V new_streak = hn::IfThenElseZero(hn::And(hn::And(alternates, sure_no_slip), level), hn::Add(streak, one));
-      // Decided, and not yet the orbit (the scalar engine ends the run there).
-      common = hn::And(common, hn::And(decided, hn::Lt(new_streak, window)));
-      streak = select(common, new_streak, streak);
-      prev_x = select(common, last_x, prev_x);
-      prev_y = select(common, last_y, prev_y);
-      last_x = select(common, cx, last_x);
-      last_y = select(common, cy, last_y);
-      last_wall = select(common, wall, last_wall);
-      have_last = select(common, one, have_last);
-    }
-
-    rx = select(common, cx, rx);
-    ry = select(common, cy, ry);
-    vx = select(common, new_vx, vx);
-    vy = select(common, new_vy, vy);
-    omega = select(common, new_omega, omega);
-    time = select(common, new_time, time);
-    impulse = select(common, hn::Add(impulse, j), impulse);
-    normal_impulse = select(common, hn::Add(normal_impulse, j_n), normal_impulse);
-    energy_loss = select(common, hn::Add(energy_loss, lost), energy_loss);
-    collisions = select(common, new_collisions, collisions);
-    slid = select(hn::And(common, sliding), one, slid);
-    start = select(common, select(first_left, code_left, code_right), start);
-
-    const M rest = hn::AndNot(common, busy);
-    if (!hn::AllFalse(d, rest) || hn::AllFalse(d, busy)) {
-      alignas(8) std::uint8_t bits[8] = {};
-      hn::StoreMaskBits(d, rest, bits);
-      for (int b = 0; b < 4; ++b) need |= static_cast<std::uint32_t>(bits[b]) << (8 * b);
+    const M2 rest = round(d, c, t);
+    if (!hn::AllFalse(d, hn::Or(rest.a, rest.b)) || hn::AllFalse(d, hn::Or(t.busy.a, t.busy.b))) {
+      need = lane_bits(d, rest.a, 0) | lane_bits(d, rest.b, hn::Lanes(d));
       break;
     }
   }
-  hn::Store(rx, d, L.rx);
-  hn::Store(ry, d, L.ry);
-  hn::Store(vx, d, L.vx);
-  hn::Store(vy, d, L.vy);
-  hn::Store(omega, d, L.omega);
-  hn::Store(time, d, L.time);
-  hn::Store(impulse, d, L.impulse);
-  hn::Store(normal_impulse, d, L.normal_impulse);
-  hn::Store(energy_loss, d, L.energy_loss);
-  hn::Store(collisions, d, L.collisions);
-  hn::Store(start, d, L.start);
-  hn::Store(slid, d, L.slid);
-  if (watch) {
-    hn::Store(streak, d, L.streak);
-    hn::Store(have_last, d, L.have_last);
-    hn::Store(last_wall, d, L.last_wall);
-    hn::Store(last_x, d, L.last_x);
-    hn::Store(last_y, d, L.last_y);
-    hn::Store(prev_x, d, L.prev_x);
-    hn::Store(prev_y, d, L.prev_y);
-  }
+  store(d, t, L, c.watch);
   return need;
 }
 
-int Width() { return static_cast<int>(hn::Lanes(D())); }
+int VectorLanes() { return static_cast<int>(hn::Lanes(D())); }
 
 }  // namespace HWY_NAMESPACE
 }  // namespace funnel::batch
@@ -296,11 +431,13 @@ HWY_AFTER_NAMESPACE();
 namespace funnel::batch {
 
 HWY_EXPORT(FaceSteps);
-HWY_EXPORT(Width);
+HWY_EXPORT(VectorLanes);
 
 std::uint32_t face_steps(const Constants& k, Lanes& lanes) { return HWY_DYNAMIC_DISPATCH(FaceSteps)(k, lanes); }
 
-int width() { return HWY_DYNAMIC_DISPATCH(Width)(); }
+int vector_lanes() { return HWY_DYNAMIC_DISPATCH(VectorLanes)(); }
+
+int width() { return tracks * vector_lanes(); }
 
 }  // namespace funnel::batch
 #endif
@@ -386,7 +523,7 @@ bool set_simd_path(std::string_view name) {
   return true;
 }
 
-int simd_lanes() { return path_names[current()].target == 0 ? 1 : batch::width(); }
+int simd_lanes() { return path_names[current()].target == 0 ? 1 : batch::vector_lanes(); }
 
 }  // namespace funnel
 #endif

@@ -6,8 +6,11 @@
 
 namespace funnel::batch {
 
-/// Lanes of the widest vector of doubles any path uses (AVX-512: 8), with room to spare.
-inline constexpr int max_lanes = 16;
+/// Vectors of lanes face_steps steps side by side (src/batch.cpp: each hides the other's latency).
+inline constexpr int tracks = 2;
+
+/// Lanes the widest path steps at once: two vectors of AVX-512's 8 doubles.
+inline constexpr int max_lanes = tracks * 8;
 
 /// Codes of how a lane's current flight began (the scalar engine's FlightStart), as doubles.
 inline constexpr double start_fresh = -1.0;  ///< nothing set (a release)
@@ -75,7 +78,10 @@ struct Lanes {
 /// its order (IEEE-exact in each lane), so the results are the same bits.
 std::uint32_t face_steps(const Constants& k, Lanes& lanes);
 
-/// Lanes of the path in use (1 for the scalar engine).
+/// Doubles in a vector of the path in use (2 SSE4, 4 AVX2, 8 AVX-512).
+int vector_lanes();
+
+/// Lanes face_steps uses on the path in use: tracks vectors' worth.
 int width();
 
 }  // namespace funnel::batch

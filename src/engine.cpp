@@ -583,7 +583,7 @@ std::int64_t from_lane(const Funnel& f, const batch::Lanes& l, int i, Run::Lane 
 /// simulate_many with or without watches (empty span: none).
 std::int64_t run_many(const Params& params, const Funnel& f, std::span<const State> initial, std::span<Trajectory> out,
                       std::span<OrbitWatch> watches) {
-  const int width = simd_lanes();
+  const int width = simd_lanes() <= 1 ? 1 : batch::width();
   auto watch_of = [&](std::size_t k) { return watches.empty() ? nullptr : &watches[k]; };
   if (width <= 1 || !batchable(f) || initial.size() < 2) {
     for (std::size_t k = 0; k < initial.size(); ++k) out[k] = simulate(params, f, initial[k], watch_of(k));
