@@ -60,27 +60,20 @@ SideV broadcast(D d, const SideConstants& s) {
 // both, one after the other, so that the chain of dependent square roots and divisions of one
 // track's round overlaps the other's in the CPU (one track alone waits on its divider most of the
 // time). Each lane still computes exactly what it would alone.
-struct V2 {
-  V a, b;
+template <class T>
+struct Pair {
+  T a, b;
 };
-struct M2 {
-  M a, b;
-};
+using V2 = Pair<V>;
+using M2 = Pair<M>;
 
-template <int i>
-HWY_INLINE V at(V x) {
+/// Track i's part of a pair; a plain vector or mask (a constant) is both tracks'.
+template <int i, class T>
+HWY_INLINE T at(const T& x) {
   return x;
 }
-template <int i>
-HWY_INLINE V at(const V2& x) {
-  return i == 0 ? x.a : x.b;
-}
-template <int i>
-HWY_INLINE M at(M x) {
-  return x;
-}
-template <int i>
-HWY_INLINE M at(const M2& x) {
+template <int i, class T>
+HWY_INLINE T at(const Pair<T>& x) {
   return i == 0 ? x.a : x.b;
 }
 
