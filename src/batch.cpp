@@ -12,6 +12,9 @@
 #include <hwy/foreach_target.h>  // must come before highway.h
 #include <hwy/highway.h>
 
+#include <cstddef>
+#include <iterator>
+
 #include "batch.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -189,57 +192,50 @@ HWY_INLINE void store(D d, const V2& x, double* p) {
   hn::Store(x.b, d, p + hn::Lanes(d));
 }
 
+/// Each lane array of Lanes with the pair that holds it while the tracks step: the trajectories'
+/// state, then (from watch_fields on) the orbit watch's memory, moved only with a watch.
+struct Field {
+  double (Lanes::*lanes)[max_lanes];
+  V2 Tracks::*pair;
+};
+constexpr Field fields[] = {
+    {&Lanes::rx, &Tracks::rx},
+    {&Lanes::ry, &Tracks::ry},
+    {&Lanes::vx, &Tracks::vx},
+    {&Lanes::vy, &Tracks::vy},
+    {&Lanes::omega, &Tracks::omega},
+    {&Lanes::time, &Tracks::time},
+    {&Lanes::impulse, &Tracks::impulse},
+    {&Lanes::normal_impulse, &Tracks::normal_impulse},
+    {&Lanes::energy_loss, &Tracks::energy_loss},
+    {&Lanes::collisions, &Tracks::collisions},
+    {&Lanes::start, &Tracks::start},
+    {&Lanes::slid, &Tracks::slid},
+    {&Lanes::streak, &Tracks::streak},
+    {&Lanes::have_last, &Tracks::have_last},
+    {&Lanes::last_wall, &Tracks::last_wall},
+    {&Lanes::last_x, &Tracks::last_x},
+    {&Lanes::last_y, &Tracks::last_y},
+    {&Lanes::prev_x, &Tracks::prev_x},
+    {&Lanes::prev_y, &Tracks::prev_y},
+};
+constexpr std::size_t watch_fields = 12;
+
 HWY_INLINE Tracks load(D d, const Lanes& L, bool watch) {
   Tracks t;
-  t.rx = load(d, L.rx);
-  t.ry = load(d, L.ry);
-  t.vx = load(d, L.vx);
-  t.vy = load(d, L.vy);
-  t.omega = load(d, L.omega);
-  t.time = load(d, L.time);
-  t.impulse = load(d, L.impulse);
-  t.normal_impulse = load(d, L.normal_impulse);
-  t.energy_loss = load(d, L.energy_loss);
-  t.collisions = load(d, L.collisions);
-  t.start = load(d, L.start);
-  t.slid = load(d, L.slid);
-  if (watch) {
-    t.streak = load(d, L.streak);
-    t.have_last = load(d, L.have_last);
-    t.last_wall = load(d, L.last_wall);
-    t.last_x = load(d, L.last_x);
-    t.last_y = load(d, L.last_y);
-    t.prev_x = load(d, L.prev_x);
-    t.prev_y = load(d, L.prev_y);
-  } else {
-    const V2 zero{hn::Zero(d), hn::Zero(d)};
-    t.streak = t.have_last = t.last_wall = t.last_x = t.last_y = t.prev_x = t.prev_y = zero;
+  const V2 zero{hn::Zero(d), hn::Zero(d)};
+#pragma GCC unroll 32  // constant member pointers: straight code, as if written out
+  for (std::size_t i = 0; i < std::size(fields); ++i) {
+    t.*fields[i].pair = watch || i < watch_fields ? load(d, L.*fields[i].lanes) : zero;
   }
   t.busy = lt(t.start, hn::Set(d, start_idle));
   return t;
 }
 
 HWY_INLINE void store(D d, const Tracks& t, Lanes& L, bool watch) {
-  store(d, t.rx, L.rx);
-  store(d, t.ry, L.ry);
-  store(d, t.vx, L.vx);
-  store(d, t.vy, L.vy);
-  store(d, t.omega, L.omega);
-  store(d, t.time, L.time);
-  store(d, t.impulse, L.impulse);
-  store(d, t.normal_impulse, L.normal_impulse);
-  store(d, t.energy_loss, L.energy_loss);
-  store(d, t.collisions, L.collisions);
-  store(d, t.start, L.start);
-  store(d, t.slid, L.slid);
-  if (watch) {
-    store(d, t.streak, L.streak);
-    store(d, t.have_last, L.have_last);
-    store(d, t.last_wall, L.last_wall);
-    store(d, t.last_x, L.last_x);
-    store(d, t.last_y, L.last_y);
-    store(d, t.prev_x, L.prev_x);
-    store(d, t.prev_y, L.prev_y);
+#pragma GCC unroll 32
+  for (std::size_t i = 0; i < std::size(fields); ++i) {
+    if (watch || i < watch_fields) store(d, t.*fields[i].pair, L.*fields[i].lanes);
   }
 }
 
@@ -268,8 +264,10 @@ HWY_INLINE M2 round(D d, const Context& c, Tracks& t) {
   const V2 root = sqrt(choose(on_left, arg_right, line_root_argument(d, delta_left, p_left, left.ny)));
   // The right face's root: `root` after the left face, its own after a release (a second
   // square root only in the rounds that hold one).
-  const V2 root_right{hn::AllFalse(d, fresh.a) ? root.a : hn::IfThenElse(fresh.a, hn::Sqrt(arg_right.a), root.a),
-                      hn::AllFalse(d, fresh.b) ? root.b : hn::IfThenElse(fresh.b, hn::Sqrt(arg_right.b), root.b)};
+  const auto right_root = [&](M fresh_i, V arg_i, V root_i) {
+    return hn::AllFalse(d, fresh_i) ? root_i : hn::IfThenElse(fresh_i, hn::Sqrt(arg_i), root_i);
+  };
+  const V2 root_right{right_root(fresh.a, arg_right.a, root.a), right_root(fresh.b, arg_right.b, root.b)};
   M2 ok_left, ok_right;
   const V2 t_left = line_time(d, delta_left, p_left, left.ny, root, ok_left);
   const V2 t_right = line_time(d, delta_right, p_right, right.ny, root_right, ok_right);
