@@ -102,6 +102,7 @@ class Reader {
  private:
   void take(void* out, std::size_t n) {
     if (static_cast<std::size_t>(end_ - p_) < n) throw std::runtime_error("MPI message shorter than expected");
+    if (n == 0) return;  // an empty vector's data() may be null, which memcpy must not be given
     std::memcpy(out, p_, n);
     p_ += n;
   }
