@@ -385,7 +385,7 @@ HWY_INLINE M2 round(D d, const Context& c, Tracks& t) {
   return but_not(common, t.busy);
 }
 
-/// Appends the bits of `m` (one per lane) to `need` from bit `offset` on.
+/// The bits of `m` (one per lane), shifted to start at bit `offset` of face_steps' answer.
 HWY_INLINE std::uint32_t lane_bits(D d, M m, std::size_t offset) {
   alignas(8) std::uint8_t bits[8] = {};
   hn::StoreMaskBits(d, m, bits);
