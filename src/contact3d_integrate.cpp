@@ -27,7 +27,9 @@
 #include <numbers>
 
 #include <boost/math/tools/roots.hpp>
-#include <boost/numeric/odeint/stepper/generation.hpp>
+#include <boost/numeric/odeint/integrate/integrate_adaptive.hpp>
+#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/dense_output_runge_kutta.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 
 namespace funnel {
@@ -125,6 +127,9 @@ struct Surface {
 
   static Vec3 omega(const Y& y) { return {y[WX], y[WY], y[WZ]}; }
 
+  /// The centre's distance from the axis.
+  double rho(const Y& y) const { return torus ? R + a * std::cos(y[Q]) : y[Q] * cos_t; }
+
   Vec3 slip(const Kin& k, const Y& y) const { return k.v - a * cross(omega(y), k.n); }
 
   /// Tangential part of g - a omega x n': the slip's rate without friction, per (1 + 1/kappa).
@@ -175,6 +180,60 @@ struct Surface {
   }
 };
 
+/// The integrator's error test: odeint's, |error| <= abs + rel (|x| + |dt x'|) for every
+/// component, with two guards for the motion near the axis, where the azimuth's rate h / rho^2 and
+/// the centripetal acceleration h^2 / rho^3 grow without bound:
+/// - the absolute tolerance of the meridian coordinate q and of the angular momentum h never
+///   exceeds rel times the centre's distance rho from the axis, the scale of the motion there: a
+///   pass at rho ~ 1e-9 with errors of 1e-14 in q and h gets its energy h^2 / 2 rho^2 wrong by
+///   1e-5 relative;
+/// - on a closed cone's face, a step may cover at most half the distance to the vertex
+///   (|q'| dt + |q''| dt^2 / 2 <= q / 2), else it is rejected as if its error were too large (and
+///   shortened to about that distance): a ball with a tiny angular momentum passes the axis at
+///   rho ~ h / v, and a long step of a smooth descent stepped over that pass, through the vertex
+///   into the cone's mirror image, where the stages never sampled the centrifugal barrier
+///   (docs/robustness.md, finding 28).
+/// Beyond rho = abs / rel (1e-2 H) and that distance the test is odeint's, bit for bit.
+class AxisErrorChecker {
+ public:
+  AxisErrorChecker(double abs_tol, double rel_tol, const Surface& sf, bool closed)
+      : abs_(abs_tol),
+        rel_(rel_tol),
+        sf_(&sf),
+        closed_face_(closed && !sf.torus),
+        far_(sf.torus && rel_tol * (sf.R - sf.a) >= abs_tol) {}
+
+  template <class Algebra>
+  double error(Algebra& /*algebra*/, const Y& x_old, const Y& dxdt_old, Y& x_err, double dt) const {
+    // (A rim torus whose inner edge is 1e-2 H or more from the axis is never near it.)
+    const double near = far_ ? abs_ : std::fmin(abs_, rel_ * std::fabs(sf_->rho(x_old)));
+    const double step = std::fabs(dt);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < x_err.size(); ++i) {
+      const double abs_i = i == Q || i == H ? near : abs_;
+      x_err[i] = std::fabs(x_err[i]) / (abs_i + rel_ * (std::fabs(x_old[i]) + step * std::fabs(dxdt_old[i])));
+      worst = std::fmax(worst, x_err[i]);
+    }
+    if (closed_face_) {
+      const double reach = std::fabs(x_old[QD]) * step + 0.5 * std::fabs(dxdt_old[QD]) * step * step;
+      const double ratio = reach / (0.5 * x_old[Q]);
+      // Cubed: the controller then shortens the step by about the ratio (dopri5's error ~ dt^5
+      // is shrunk with the power -1/3 of a rejected step's error).
+      if (ratio > 1.0) worst = std::fmax(worst, ratio * ratio * ratio);
+    }
+    return worst;
+  }
+
+ private:
+  double abs_, rel_;
+  const Surface* sf_;
+  bool closed_face_, far_;
+};
+
+using Dopri5 = odeint::runge_kutta_dopri5<Y>;
+using Controlled = odeint::controlled_runge_kutta<Dopri5, AxisErrorChecker>;
+using DenseOutput = odeint::dense_output_runge_kutta<Controlled>;
+
 /// Coordinates of a 3D state on a surface.
 Y coordinates(const Surface& sf, const State3& s) {
   Y y{};
@@ -201,6 +260,45 @@ Y coordinates(const Surface& sf, const State3& s) {
 
 /// Why an integrated phase ended.
 enum class Stop { Grown, End, RimTop, TakeOff, Exit, Rest, Cap, SlipZero, RollLimit, Minimum };
+
+/// A conservative phase's last radial minimum (q' from < 0 to >= 0) and the radial extent since:
+/// a second minimum with the same radial state closes a period of the reduced motion, which then
+/// repeats forever (energy and the conserved quantities fix it).
+struct LastMinimum {
+  bool have = false;
+  double t = 0.0, q = 0.0, h = 0.0, wn = 0.0, in = 0.0, f = 0.0, phi = 0.0;
+  double q_max = -std::numeric_limits<double>::infinity(), q_low = std::numeric_limits<double>::infinity();
+
+  /// Whether a minimum at `time` in state x (omega.n = wn) repeats this one, to 1e-8 relative. A
+  /// circular orbit (no amplitude) is not a period. Rolling also needs the spin about the normal
+  /// to repeat; without friction (`spin_free`) the spin never acts on the motion (a spin about a
+  /// horizontal axis changes omega.n round the cone, and its contacts were integrated to the
+  /// budget).
+  bool repeated_by(double time, const Y& x, double wn_now, bool spin_free) const {
+    const double tol = 1e-8;
+    return have && std::fabs(x[Q] - q) <= tol * std::fabs(q) && std::fabs(x[H] - h) <= tol * (std::fabs(h) + 1e-12) &&
+           (spin_free || std::fabs(wn_now - wn) <= tol * (std::fabs(wn) + 1.0)) && q_max - q_low > 1e-7 * std::fabs(q) &&
+           time > t;
+  }
+
+  void record(double time, const Y& x, double wn_now) {
+    have = true;
+    t = time;
+    q = x[Q];
+    h = x[H];
+    wn = wn_now;
+    in = x[IN];
+    f = x[IF];
+    phi = x[PHI];
+    q_max = x[Q];
+    q_low = x[Q];
+  }
+
+  void extend(double q_now) {
+    q_max = std::max(q_max, q_now);
+    q_low = std::min(q_low, q_now);
+  }
+};
 
 /// The running integrated contact.
 class Integrated {
@@ -297,6 +395,10 @@ class Integrated {
  private:
   static Regime regime(Mode m) { return m == Mode::Rolling ? Regime::Rolling : Regime::Sliding; }
 
+  /// Near the axis: closer to it than abs_tol / rel_tol (1e-2 H), where the error test of q and h
+  /// becomes relative (AxisErrorChecker) and the motion's scale is the distance itself.
+  bool near_axis(const Y& y) const { return sf_.rho(y) * opt_.rel_tol < opt_.abs_tol; }
+
   /// The scale of slip velocities: |v| + a |omega|.
   double slip_scale(const Kin& k, const Y& y) const { return norm(k.v) + m_.radius * norm(Surface::omega(y)); }
 
@@ -392,13 +494,31 @@ class Integrated {
 
   /// Integrates one phase from (y, t) in `mode` until a stopping event or the budget; returns why.
   Stop phase(Y& y, double& t, Mode mode, double& dt) {
-    auto stepper = odeint::make_dense_output(opt_.abs_tol, opt_.rel_tol, odeint::runge_kutta_dopri5<Y>());
+    DenseOutput stepper(Controlled(AxisErrorChecker(opt_.abs_tol, opt_.rel_tol, sf_, cone_.g.closed), odeint::default_step_adjuster<double, double>(), Dopri5()));
     auto system = [&](const Y& x, Y& dx, double) {
       have_last_ = true;
       last_phi_ = x[PHI];
       last_cos_ = std::cos(last_phi_);
       last_sin_ = std::sin(last_phi_);
       sf_.rhs(x, dx, mode, reference_, last_cos_, last_sin_);
+    };
+    // The state at a time inside the last step at which the contact ends (a period's second
+    // minimum, the budget). Near the axis it is integrated over [t0, time] from the step's start
+    // with the same error test rather than read off the dense output, whose error is not
+    // controlled: there the energy is so sensitive to q that an interpolated minimum moved it by
+    // 3e-9 (docs/robustness.md, finding 28).
+    auto land = [&](double t0, double time) {
+      if (time == stepper.current_time()) return stepper.current_state();
+      Y x;
+      stepper.calc_state(time, x);
+      if (!near_axis(x)) return x;
+      x = stepper.previous_state();
+      if (time > t0) {
+        Controlled over(AxisErrorChecker(opt_.abs_tol, opt_.rel_tol, sf_, cone_.g.closed),
+                        odeint::default_step_adjuster<double, double>(), Dopri5());
+        odeint::integrate_adaptive(over, system, x, t0, time, time - t0);
+      }
+      return x;
     };
     stepper.initialize(y, t, dt);
     Events prev = events(y, mode);
@@ -412,9 +532,7 @@ class Integrated {
       if (prev.f[i] < 0.0) return kinds[i];
       if (prev.f[i] == 0.0) prev.f[i] = std::numeric_limits<double>::min();
     }
-    bool have_min = false;
-    double t_min = 0.0, q_min = 0.0, h_min = 0.0, wn_min = 0.0, in_min = 0.0, if_min = 0.0, phi_min = 0.0;
-    double q_max = -std::numeric_limits<double>::infinity(), q_low = std::numeric_limits<double>::infinity();
+    LastMinimum last;
     for (;;) {
       if (mode != Mode::Free && mode != Mode::Rolling) {
         const Y& x = stepper.current_state();
@@ -444,12 +562,17 @@ class Integrated {
       }
       const auto [t0, t1] = stepper.do_step(system);
       ++res_.steps;
-      dt = t1 - t0;
+      // The next phase starts with the step just taken. A step shorter than an ulp of the time
+      // (near the axis, at a kink of the friction) takes none: a step size of 0 would then never
+      // grow again, and the next phase made 20 million steps of no length until the step guard;
+      // the stepper's own next step size is positive.
+      dt = t1 > t0 ? t1 - t0 : stepper.current_time_step();
       // Scan the step at a few dense-output points for the first event function to reach <= 0.
       double ta = t0;
       Events ea = prev;
       int which = -1;
       double root = 0.0;
+      bool restarted = false;  // at a radial minimum away from the axis
       for (int j = 1; j <= samples_per_step && which < 0; ++j) {
         const double tb = j == samples_per_step ? t1 : t0 + (t1 - t0) * j / samples_per_step;
         Y xb;
@@ -462,7 +585,9 @@ class Integrated {
             stepper.calc_state(tt, xx);
             return events(xx, mode).f[i];
           };
-          const double r = locate(f, ta, tb, ea.f[i], eb.f[i]);
+          // A step near the axis can be shorter than four ulps of the time: its samples then
+          // coincide, and a sign change between two of them is at that time.
+          const double r = tb > ta ? locate(f, ta, tb, ea.f[i], eb.f[i]) : tb;
           if (which < 0 || r < root) {
             which = static_cast<int>(i);
             root = r;
@@ -473,56 +598,69 @@ class Integrated {
           which = 100;
           root = opt_.t_budget;
         }
+        if (which >= 0 && which < 100 && kinds[static_cast<std::size_t>(which)] == Stop::Minimum) {
+          // A radial minimum: at a period's second one, extrapolate to the budget.
+          Y xm;
+          stepper.calc_state(root, xm);
+          const double wn = dot(Surface::omega(xm), sf_.kin(xm).n);
+          if (last.repeated_by(root, xm, wn, mode == Mode::Free)) {
+            y = land(t0, root);
+            t = root;
+            const double periods = (opt_.t_budget - t) / (t - last.t);
+            res_.duration = opt_.t_budget;
+            res_.normal_impulse = y[IN] + periods * (y[IN] - last.in);
+            res_.impulse = y[IF] + periods * (y[IF] - last.f);
+            res_.swept = y[PHI] - phi_start_ + periods * (y[PHI] - last.phi);
+            return Stop::Minimum;
+          }
+          last.record(root, xm, wn);
+          // Go on from the minimum; its function is now <= 0 and fires again only after the next
+          // maximum. Near the axis the step itself is kept and the rest of this sample's interval
+          // scanned: restarting the integration from the interpolated state at each minimum put
+          // the dense output's error into the path, 1e-6 of the energy over a contact whose
+          // minima were 1e-11 H from the axis (docs/robustness.md, finding 28). Elsewhere the
+          // integration restarts there, as it always has.
+          if (!near_axis(xm)) {
+            y = xm;
+            t = root;
+            stepper.initialize(y, t, dt);
+            prev = events(y, mode);
+            restarted = true;
+            break;
+          }
+          which = -1;
+          if (root < tb) {
+            ea = events(xm, mode);
+            ta = root;
+            --j;  // the same sample again, from the minimum
+            continue;
+          }
+          // At the sample itself: no other event came first, so none is left in the interval.
+        }
         ta = tb;
         ea = eb;
       }
+      if (restarted) continue;
       if (which < 0) {
         y = stepper.current_state();
         t = t1;
         prev = ea;
-        const double qv = y[Q];
-        q_max = std::max(q_max, qv);
-        q_low = std::min(q_low, qv);
+        last.extend(y[Q]);
         if (res_.steps >= max_steps) return Stop::Cap;
         if ((res_.steps & 1023) == 0 && opt_.cancel != nullptr && opt_.cancel->load(std::memory_order_relaxed)) return Stop::Cap;
         continue;
       }
-      stepper.calc_state(root, y);
       t = root;
-      if (which == 100) return Stop::Cap;
-      const Stop why = kinds[static_cast<std::size_t>(which)];
-      if (why != Stop::Minimum) return why;
-      // A radial minimum of a conservative phase: a second one with the same radial state closes a
-      // period of the reduced motion, which then repeats forever (energy and the conserved
-      // quantities fix it); extrapolate to the budget. A circular orbit (no amplitude) is not one.
-      const Kin k = sf_.kin(y);
-      const double wn = dot(Surface::omega(y), k.n);
-      const double tol = 1e-8;
-      const double amplitude = q_max - q_low;
-      if (have_min && std::fabs(y[Q] - q_min) <= tol * std::fabs(q_min) && std::fabs(y[H] - h_min) <= tol * (std::fabs(h_min) + 1e-12) &&
-          std::fabs(wn - wn_min) <= tol * (std::fabs(wn_min) + 1.0) && amplitude > 1e-7 * std::fabs(q_min) && t > t_min) {
-        const double period = t - t_min;
-        const double periods = (opt_.t_budget - t) / period;
-        res_.duration = opt_.t_budget;
-        res_.normal_impulse = y[IN] + periods * (y[IN] - in_min);
-        res_.impulse = y[IF] + periods * (y[IF] - if_min);
-        res_.swept = y[PHI] - phi_start_ + periods * (y[PHI] - phi_min);
-        return Stop::Minimum;
+      if (which == 100) {
+        y = land(t0, root);
+        return Stop::Cap;
       }
-      have_min = true;
-      t_min = t;
-      q_min = y[Q];
-      h_min = y[H];
-      wn_min = wn;
-      in_min = y[IN];
-      if_min = y[IF];
-      phi_min = y[PHI];
-      q_max = y[Q];
-      q_low = y[Q];
-      // Go on from the minimum: restart the stepper there. The minimum's function is now <= 0 and
-      // fires again only after the next maximum.
-      stepper.initialize(y, t, dt);
-      prev = events(y, mode);
+      // At an event that changes the phase the state is the dense output's at the located root,
+      // where the event's function is <= 0 by construction: the next phase must start past the
+      // event (an integrated state can fall on its near side, and rolling that static friction
+      // can no longer hold then began again and ended at once, 100 000 times at the same time).
+      stepper.calc_state(root, y);
+      return kinds[static_cast<std::size_t>(which)];
     }
   }
 

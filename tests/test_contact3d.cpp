@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
+#include "funnel/params.hpp"
 #include "test_util.hpp"
 
 namespace funnel {
@@ -16,11 +18,15 @@ using test::near;
 
 constexpr double pi = std::numbers::pi;
 
-Cone cone_of(double theta) {
+Cone cone_of(double theta, double gap = default_params().gap) {
   Params p = default_params();
   p.theta = theta;
+  p.gap = gap;
   return make_cone(p);
 }
+
+/// The closed cone (d = 0) at angle theta.
+Cone closed_cone_of(double theta) { return cone_of(theta, 0.0); }
 
 Material material_of(double mu, double e = 0.99) {
   Params p = default_params();
@@ -60,10 +66,7 @@ TEST(Contact3d, InAClosedConeABallPassingCloseToTheAxisWithItsEnergyGoesOn) {
   // 1e-4 a (it can then never rise further): not merely by coming close to the axis. Sliding
   // without friction and rolling keep their energy through a pass 1e-7 H from the axis (an
   // earlier test by distance, 1e-4 a, ended them at rest and booked their energy as lost).
-  Params p = default_params();
-  p.theta = 50.0;
-  p.gap = 0.0;
-  const Cone c = make_cone(p);
+  const Cone c = closed_cone_of(50.0);
   const double rho = 0.4 * c.g.cos_t;
   for (const double mu : {0.0, 1.0}) {
     const Material m = material_of(mu);
@@ -79,6 +82,86 @@ TEST(Contact3d, InAClosedConeABallPassingCloseToTheAxisWithItsEnergyGoesOn) {
       EXPECT_GT(r.duration, 0.5);  // past the axis and on
     }
   }
+}
+
+TEST(Contact3d, ABallWithATinyAngularMomentumPassesTheVertexAndKeepsItsEnergy) {
+  // docs/robustness.md, finding 28. Released high on a closed cone's face with an angular momentum
+  // h about the axis of 1e-11 to 1e-9, a ball slides (mu = 0) or rolls down, passes the axis at
+  // rho ~ h / v, climbs the far side and comes back, again and again. The integrator's steps grew
+  // on the smooth descent until one stepped over the pass, through the vertex into the cone's
+  // mirror image (q < 0), where the vertex event ended the contact at rest, the pass never
+  // sampled; restarting the integration from the dense output at each radial minimum, and the
+  // absolute tolerance of q and h (1e-14, above rho itself), moved the energy by up to 2.3e-8.
+  // Each pass keeps the energy, and h without friction; the ball never reaches the vertex.
+  const Cone c = closed_cone_of(50.0);
+  const double rho = 0.6 * c.g.cos_t;
+  double worst = 0.0;
+  for (const double mu : {0.0, 1.0}) {
+    const Material m = material_of(mu);
+    for (const double h : {1e-11, 1e-10, 1e-9}) {
+      for (const bool periodic : {false, true}) {
+        State3 s = on_cone(c, rho, 0.7, 0.0, h / rho);
+        if (mu > 0.0) s.omega = rolling_spin(c, s, m.radius);
+        const Contact3Result r = face_contact(s, c, m, budget(12.0, periodic));
+        const std::string where = "mu " + format_number(mu) + ", h " + format_number(h);
+        EXPECT_NE(r.how, Contact3End::Rest) << where;
+        EXPECT_GT(r.end.r.y, 0.0) << where;
+        EXPECT_EQ(r.duration, 12.0) << where;
+        worst = std::max(worst, std::fabs(r.energy_lost));
+        EXPECT_LT(std::fabs(r.energy_lost), 1e-10) << where << (periodic ? ", periodic" : "");
+        if (mu == 0.0) {  // r x v cancels for a ball moving along a generator: to its rounding
+          const double l = orbital_momentum_y(r.end), rounding = 1e-15 * norm(r.end.r) * norm(r.end.v);
+          EXPECT_LE(std::fabs(l - orbital_momentum_y(s)), 1e-9 * h + rounding) << where << ": " << l;
+        }
+      }
+    }
+  }
+  std::printf("passes 1e-11 to 1e-9 H from the axis: worst energy drift %.3g\n", worst);
+}
+
+TEST(Contact3d, ASlidingBallWhoseSlipVanishesNextToTheAxisGoesOn) {
+  // docs/robustness.md, finding 29. Too steep to roll (tan 75 deg > mu (1 + kappa) / kappa), a
+  // ball slides into a closed cone's vertex with an angular momentum of 1e-11 to 1e-9 and its slip
+  // vanishes as it passes the axis, 1e-8 H away, where the steps had shrunk below an ulp of the
+  // time: the last one took none, the next phase began with a step size of 0, which never grows,
+  // and made 20 million steps of no length until the step guard (16 s each; `stalled`).
+  // Now the loss over the contact depends smoothly on h (by 2e-6 from 1e-11 to 1e-9).
+  const Cone c = closed_cone_of(75.0);
+  const Material m = material_of(1.0);
+  const double rho = 0.6 * c.g.cos_t;
+  double lost_smallest = 0.0;
+  for (const double h : {1e-11, 1e-10, 1e-9}) {
+    State3 s = on_cone(c, rho, 0.7, 0.0, h / rho);
+    s.omega = rolling_spin(c, s, m.radius);
+    const Contact3Result r = face_contact(s, c, m, budget(2.0));
+    EXPECT_EQ(r.how, Contact3End::TimeCap) << h;
+    EXPECT_EQ(r.duration, 2.0) << h;
+    EXPECT_LT(r.steps, 20000) << h;
+    if (h == 1e-11) lost_smallest = r.energy_lost;
+    EXPECT_TRUE(near(r.energy_lost, lost_smallest, 1e-5)) << h << ": " << r.energy_lost << " " << lost_smallest;
+    EXPECT_GT(r.energy_lost, 0.05);  // it slid past the axis and on
+  }
+}
+
+TEST(Contact3d, WithoutFrictionASpinAboutAHorizontalAxisChangesNothingAndTheOrbitIsFoundPeriodic) {
+  // Without friction the spin never acts on the motion, but omega.n changes round the cone: the
+  // test of a repeated radial minimum also asked for the same omega.n, so such an orbit was
+  // integrated to the budget instead of extrapolated.
+  const Cone c = cone_of(60.0);
+  const Material m = material_of(0.0);
+  const State3 plain = on_cone(c, 0.3, 0.2, 0.1, 0.4);
+  State3 spun = plain;
+  spun.omega = {7.0, -3.0, 5.0};
+  const Contact3Result a = face_contact(plain, c, m, budget(1e4, true));
+  const Contact3Result b = face_contact(spun, c, m, budget(1e4, true));
+  ASSERT_EQ(a.how, Contact3End::Periodic);
+  EXPECT_EQ(b.how, Contact3End::Periodic);
+  EXPECT_EQ(b.duration, a.duration);
+  EXPECT_EQ(b.impulse, a.impulse);
+  EXPECT_EQ(b.normal_impulse, a.normal_impulse);
+  EXPECT_EQ(b.swept, a.swept);
+  EXPECT_EQ(b.steps, a.steps);
+  EXPECT_LT(b.steps, 10000);
 }
 
 TEST(Contact3d, FrictionlessSlidingConservesEnergyAndAngularMomentumAboutTheAxis) {
