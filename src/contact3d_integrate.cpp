@@ -617,7 +617,7 @@ class Integrated {
           // Go on from the minimum; its function is now <= 0 and fires again only after the next
           // maximum. Near the axis the step itself is kept and the rest of this sample's interval
           // scanned: restarting the integration from the interpolated state at each minimum put
-          // the dense output's error into the path, 1e-6 of the energy over a contact whose
+          // the dense output's error into the path, 6e-7 of the energy over a contact whose
           // minima were 1e-11 H from the axis (docs/robustness.md, finding 28). Elsewhere the
           // integration restarts there, as it always has.
           if (!near_axis(xm)) {
