@@ -290,4 +290,23 @@ std::vector<std::string> comma_items(const std::string& text) {
   return items;
 }
 
+void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std::int64_t runs) {
+  if (stalled == 0) return;
+  const bool one = runs == 1;
+  const bool three_d = space == Space::ThreeD;
+  std::string text = who + ": warning: ";
+  text += one ? "the run stalled: a guard ended it before t-max, "
+              : std::to_string(stalled) + " of " + std::to_string(runs) + " runs stalled: a guard ended them before t-max, ";
+  text += three_d ? "most often a sustained contact that reached max-ode-steps integrator steps (at the default "
+                    "2e7, a stick-slip that the integrator resolves only in tiny steps: docs/robustness.md, finding "
+                    "22). "
+                  : "after 1000 events in a row that took no time (docs/model.md §3). ";
+  text += one ? "Its status is trapped" : "They count as trapped";
+  if (three_d) {
+    text += one ? ", with \"stalled\": true in the JSON; a smaller --max-ode-steps bounds the cost of such a run"
+                : " (\"stalled\" in the JSON); a smaller --max-ode-steps bounds their cost";
+  }
+  std::cerr << text << ".\n";
+}
+
 }  // namespace funnel::cli

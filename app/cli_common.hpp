@@ -105,5 +105,9 @@ Format to_format(const std::string& text);
 /// caller to reject by name): "a,b" -> {"a", "b"}.
 std::vector<std::string> comma_items(const std::string& text);
 
+/// Warns on standard error when `stalled` of `runs` runs (runs >= 1) were ended by a guard before
+/// the time cap (Trajectory::stalled, Trajectory3::stalled: status trapped), naming the likely
+/// guard of the space; `who` is the command ("funnel ensemble"). Nothing when stalled is 0.
+void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std::int64_t runs);
 
 }  // namespace funnel::cli

@@ -83,6 +83,7 @@ struct TrajectoryCommand {
       text = csv_line(cols) + csv_line(row);
     }
     write_output(out, text);
+    warn_stalled("funnel trajectory", Space::TwoD, t.stalled ? 1 : 0, 1);
   }
 };
 

@@ -77,6 +77,7 @@ nlohmann::ordered_json trajectory_json(const Trajectory3& t) {
   }
   j["orbits_signed"] = json_number(t.orbits);
   j["periodic"] = t.periodic;
+  j["stalled"] = t.stalled;
   return j;
 }
 
@@ -173,6 +174,7 @@ nlohmann::ordered_json ensemble_json(const Ensemble3Result& r) {
   }
   j["status_counts"] = {{"exited", r.exited}, {"rest", r.rest}, {"trapped", r.trapped}};
   j["periodic"] = r.periodic;
+  j["stalled"] = r.stalled;
   j["total_collisions"] = r.total_collisions;
   j["ode_steps"] = r.ode_steps;
   return j;

@@ -68,6 +68,7 @@ void write_trajectory_3d(const Params& params, double release, bool events, Form
     text = csv_line(cols) + csv_line(row);
   }
   write_output(out, text);
+  warn_stalled("funnel trajectory", Space::ThreeD, t.stalled ? 1 : 0, 1);
 }
 
 void write_ensemble_3d(const Params& params, const Ensemble3Options& options, bool per_sample, Format format,
@@ -123,6 +124,7 @@ void write_ensemble_3d(const Params& params, const Ensemble3Options& options, bo
     text = csv_line(cols) + csv_line(row);
   }
   write_output(out, text);
+  warn_stalled("funnel ensemble", Space::ThreeD, r.stalled, r.samples);
 }
 
 }  // namespace funnel::cli

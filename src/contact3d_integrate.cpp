@@ -42,9 +42,6 @@ namespace odeint = boost::numeric::odeint;
 using Y = std::array<double, 9>;
 enum : std::size_t { Q = 0, PHI = 1, QD = 2, H = 3, WX = 4, WY = 5, WZ = 6, IN = 7, IF = 8 };
 
-/// Accepted steps after which a contact is ended as TimeCap: a guard no physical contact reaches
-/// within the default time cap except an exactly circular orbit (which never repeats a radial period).
-constexpr std::int64_t max_steps = 20'000'000;
 /// In a closed cone, a sustained contact has reached the vertex once its energy above the vertex
 /// is below this many radii (times m g): it can never again rise further from the vertex than
 /// that (docs/model.md §9). A ball that still turns about the axis spirals into the vertex ever
@@ -651,7 +648,7 @@ class Integrated {
         t = t1;
         prev = ea;
         last.extend(y[Q]);
-        if (res_.steps >= max_steps) return Stop::Cap;
+        if (res_.steps >= opt_.max_steps) return Stop::Cap;
         if ((res_.steps & 1023) == 0 && opt_.cancel != nullptr && opt_.cancel->load(std::memory_order_relaxed)) return Stop::Cap;
         continue;
       }

@@ -38,6 +38,7 @@ class Run3 {
         sink_(sink), state_(initial) {
     e0_ = energy(initial, mat_.kappa, mat_.radius);
     opt_.eps_rest = params.eps_rest;
+    opt_.max_steps = params.max_ode_steps;
     opt_.cancel = cancel;
   }
 

@@ -20,7 +20,7 @@ constexpr std::int64_t balls_per_task = 128;
 
 struct BlockStats3 {
   std::array<Accumulator, observable_count_3d> acc;
-  std::int64_t exited = 0, rest = 0, trapped = 0, periodic = 0, total_collisions = 0, ode_steps = 0;
+  std::int64_t exited = 0, rest = 0, trapped = 0, periodic = 0, stalled = 0, total_collisions = 0, ode_steps = 0;
 
   void add(const Trajectory3& t) {
     for (const ObservableInfo& o : observables_3d()) {
@@ -31,6 +31,7 @@ struct BlockStats3 {
     rest += t.status == Status::Rest;
     trapped += t.status == Status::Trapped;
     periodic += t.periodic;
+    stalled += t.stalled;
     total_collisions += t.collisions;
     ode_steps += t.ode_steps;
   }
@@ -41,6 +42,7 @@ struct BlockStats3 {
     rest += o.rest;
     trapped += o.trapped;
     periodic += o.periodic;
+    stalled += o.stalled;
     total_collisions += o.total_collisions;
     ode_steps += o.ode_steps;
   }
@@ -53,6 +55,7 @@ struct BlockStats3 {
     r.rest = rest;
     r.trapped = trapped;
     r.periodic = periodic;
+    r.stalled = stalled;
     r.total_collisions = total_collisions;
     r.ode_steps = ode_steps;
     return r;

@@ -25,7 +25,7 @@ constexpr double max_vertex_depth = 1e8;
 // The 2D parameters first; parameters() is their prefix.
 constexpr std::size_t parameter_count_2d = 18;
 
-const std::array<ParameterInfo, 21> table{{
+const std::array<ParameterInfo, 22> table{{
     {"theta", "wall angle to the horizontal", "degrees", "0 < theta < 90 (degrees)", "60", false, true,
      FUNNEL_FIELD(theta)},
     {"e", "normal restitution", "", "0 <= e <= 1", "0.99", false, true, FUNNEL_FIELD(e)},
@@ -67,6 +67,9 @@ const std::array<ParameterInfo, 21> table{{
      false, true, FUNNEL_FIELD(release_spin_x)},
     {"release-spin-y", "3D: initial spin about the vertical axis", "sqrt(g/H)",
      "finite, |release-spin-y| <= 1e8; 0 in 2d", "0", false, true, FUNNEL_FIELD(release_spin_y)},
+    {"max-ode-steps", "3D: integrator steps allowed in one sustained contact; a contact that needs more ends the run "
+     "as trapped, flagged stalled", "", "max-ode-steps >= 1 (an integer); 2e7 in 2d", "2e7", true, true,
+     FUNNEL_FIELD(max_ode_steps)},
 }};
 
 #undef FUNNEL_FIELD
@@ -315,6 +318,9 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(std::fabs(params.release_w) <= 1e6)) return error("release-w", params.release_w);
   if (!(std::fabs(params.release_spin_x) <= 1e8)) return error("release-spin-x", params.release_spin_x);
   if (!(std::fabs(params.release_spin_y) <= 1e8)) return error("release-spin-y", params.release_spin_y);
+  if (!(params.max_ode_steps >= 1)) {
+    return ParamError{"max-ode-steps", std::to_string(params.max_ode_steps), std::string(valid_range("max-ode-steps"))};
+  }
   if (params.profile) return validate_profile(*params.profile, params);
   return std::nullopt;
 }
@@ -340,11 +346,13 @@ std::optional<ParamError> validate(const Params& params, Space space) {
     }
     return std::nullopt;
   }
+  const Params defaults = default_params();
   for (std::size_t i = parameter_count_2d; i < table.size(); ++i) {
     const ParameterInfo& p = table[i];
-    if (p.get(params) != 0.0) {
+    if (p.get(params) != p.get(defaults)) {
       return ParamError{std::string(p.name), format_number(p.get(params)),
-                        "0 in 2d: " + std::string(p.name) + " is a 3D option (use --space 3d)"};
+                        std::string(p.default_text) + " in 2d: " + std::string(p.name) +
+                            " is a 3D option (use --space 3d)"};
     }
   }
   return std::nullopt;

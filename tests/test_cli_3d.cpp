@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <string>
 
 #include "cli_util.hpp"
@@ -107,6 +109,55 @@ TEST_F(Cli, SeededThreeDimensionalEnsemblesRepeatAndReportOrbits) {
   // sigma = 0 and disk releases: every ball stays in its meridian plane.
   ASSERT_EQ(run("ensemble --space 3d --theta 60 --samples 24 --out " + path("d.json")).code, 0);
   EXPECT_EQ(json::parse(read("d.json"))["orbits"]["max"].get<double>(), 0.0);
+}
+
+TEST_F(Cli, ARunStoppedByTheStepGuardIsFlaggedStalledAndWarnedOf) {
+  // A ball hovering at the limit of rolling on an 86-degree cone (docs/robustness.md, finding 22):
+  // with the default guard its contact takes 2e7 integrator steps, about 20 s.
+  const std::string steep =
+      "trajectory --space 3d --theta 86.01593143426537 --e 0.14390672371155014 --mu 0.8610508103691801 --beta0 "
+      "-0.15092973196734505 --radius 0.00022010929764117512 --gap 0.0004446501503738709 --t-max 66.4595276798649 "
+      "--release 0.6557602573781002 --release-spin 1.7457709304520292 --release-spin-x -20.732256122143752 "
+      "--release-spin-y 17.483654399884536 --max-ode-steps 5000 --out ";
+  const Result r = run(steep + path("a.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const json a = json::parse(read("a.json"));
+  EXPECT_EQ(a["status"], "trapped");
+  EXPECT_EQ(a["stalled"], true);
+  EXPECT_LT(a["duration"].get<double>(), 66.0);
+  EXPECT_EQ(a["params"]["max_ode_steps"], 5000);
+  EXPECT_NE(r.output.find("funnel trajectory: warning: the run stalled"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("max-ode-steps"), std::string::npos) << r.output;
+  // An ordinary run: not stalled, no warning, the default guard in its parameters.
+  const Result plain = run("trajectory --space 3d --theta 60 --release 0.4 --release-w 0.05 --out " + path("b.json"));
+  ASSERT_EQ(plain.code, 0) << plain.output;
+  const json b = json::parse(read("b.json"));
+  EXPECT_EQ(b["stalled"], false);
+  EXPECT_EQ(b["params"]["max_ode_steps"], 20000000);
+  EXPECT_EQ(plain.output.find("warning"), std::string::npos) << plain.output;
+  // An ensemble counts its stalled runs among the trapped ones and says how many.
+  const Result e = run("ensemble --space 3d --theta 50 --e 0.9 --mu 0.2 --gap 0 --t-max 60 --samples 61 "
+                       "--velocity-sd 0.2 --seed 9 --max-ode-steps 20000 --out " + path("e.json"));
+  ASSERT_EQ(e.code, 0) << e.output;
+  const json ej = json::parse(read("e.json"));
+  const std::int64_t stalled = ej["stalled"].get<std::int64_t>();
+  EXPECT_GT(stalled, 0);
+  EXPECT_LE(stalled, ej["status_counts"]["trapped"].get<std::int64_t>());
+  EXPECT_NE(e.output.find("funnel ensemble: warning: " + std::to_string(stalled) + " of 61 runs stalled"),
+            std::string::npos) << e.output;
+  // So does a sweep, over the points it computed.
+  const Result s = run("sweep --space 3d --theta 50 --e 0.9 --mu 0.2 --gap 0 --t-max 60 --samples 61 "
+                       "--velocity-sd 0.2 --seed 9 --max-ode-steps 20000 --out " + path("s.csv"));
+  ASSERT_EQ(s.code, 0) << s.output;
+  EXPECT_NE(s.output.find("funnel sweep: warning: " + std::to_string(stalled) + " of 61 runs stalled"),
+            std::string::npos) << s.output;
+  // The guard is a 3D parameter: refused in 2D and out of its range, before any output.
+  expect_rejected(run("trajectory --release 0.3 --max-ode-steps 5000 --out " + path("x.json")), "max-ode-steps", "5000");
+  expect_rejected(run("trajectory --space 3d --release 0.3 --max-ode-steps 0 --out " + path("x.json")),
+                  "max-ode-steps", "0");
+  expect_rejected(run("ensemble --space 3d --samples 4 --max-ode-steps 2.5 --out " + path("x.json")),
+                  "max-ode-steps", "2.5");
+  EXPECT_FALSE(std::filesystem::exists(path("x.json")));
 }
 
 TEST_F(Cli, TwoDimensionalOutputsKeepTheirColumnsAndThreeDimensionalOnesAddTheirs) {

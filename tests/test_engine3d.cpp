@@ -379,6 +379,86 @@ TEST(Engine3d, ATimeCapInsideAnIntegratedContactIsNotAStall) {
   EXPECT_TRUE(near(t.duration, p.t_max, 1e-15));
 }
 
+/// A small ball spun up on an 86-degree open cone: rolling down the steep face turns its fall into
+/// spin, and it circles the axis pressed onto the face, hovering at the limit of rolling: a
+/// stick-slip whose sliding phases the integrator resolves only in steps down to 1e-13. With the
+/// default guard its contact takes 2e7 steps (about 20 s) and ends `stalled` after 2.7 time
+/// units (docs/robustness.md, finding 22, open).
+Params steep_stick_slip() {
+  Params p = params_with(86.01593143426537, 0.14390672371155014, 0.8610508103691801, -0.15092973196734505,
+                         0.0004446501503738709);
+  p.radius = 0.00022010929764117512;
+  p.t_max = 66.4595276798649;
+  p.release_spin = 1.7457709304520292;
+  p.release_spin_x = -20.732256122143752;
+  p.release_spin_y = 17.483654399884536;
+  return p;
+}
+constexpr double steep_stick_slip_release = 0.6557602573781002;
+
+TEST(Engine3d, AContactBeyondTheStepGuardEndsTheRunStalledBeforeTheCap) {
+  Params p = steep_stick_slip();
+  const Cone c = make_cone(p);
+  double duration = 0.0;
+  for (const std::int64_t guard : {4000, 8000}) {
+    p.max_ode_steps = guard;
+    EventLog3 log;
+    const Trajectory3 t = simulate_3d(p, c, release_state_3d(p, c, steep_stick_slip_release), &log);
+    EXPECT_EQ(t.status, Status::Trapped) << guard;
+    EXPECT_TRUE(t.stalled) << guard;
+    EXPECT_FALSE(t.periodic) << guard;
+    EXPECT_LT(t.duration, p.t_max) << guard;
+    EXPECT_LE(t.ode_steps, guard * (t.contacts + t.edge_contacts)) << guard;
+    EXPECT_GE(t.ode_steps, guard) << guard;
+    // The guard only stops the run: the energy is booked and no flight enters the cone.
+    EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-12)) << guard;
+    EXPECT_TRUE(audit_flights_3d(c, release_state_3d(p, c, steep_stick_slip_release), log.events).clean()) << guard;
+    // A higher guard lets the same contact go on further.
+    EXPECT_GT(t.duration, duration) << guard;
+    duration = t.duration;
+  }
+}
+
+TEST(Engine3d, TheStepGuardChangesNoRunWhoseContactsNeedFewerSteps) {
+  // The paper's 3D page at 60 degrees: balls thrown sideways, some rolling round the cone to the
+  // time cap (periodic). A guard just above the steps any of their runs needs changes no bit.
+  Params p = params_with(60.0, 0.99, 1.0);
+  p.t_max = 300.0;
+  Ensemble3Options o;
+  o.samples = 64;
+  o.velocity_sd = 0.1;
+  o.keep_samples = true;
+  const Ensemble3Result plain = run_ensemble_3d(p, o);
+  std::int64_t most = 0;
+  for (const Sample3& s : plain.per_sample) most = std::max(most, s.trajectory.ode_steps);
+  ASSERT_GT(most, 100);
+  EXPECT_EQ(plain.stalled, 0);
+  p.max_ode_steps = most + 1;
+  const Ensemble3Result guarded = run_ensemble_3d(p, o);
+  EXPECT_EQ(guarded.stalled, 0);
+  for (std::size_t i = 0; i < plain.per_sample.size(); ++i) {
+    const Trajectory3& a = plain.per_sample[i].trajectory;
+    const Trajectory3& b = guarded.per_sample[i].trajectory;
+    EXPECT_EQ(a.status, b.status) << i;
+    EXPECT_EQ(a.duration, b.duration) << i;
+    EXPECT_EQ(a.energy_loss, b.energy_loss) << i;
+    EXPECT_EQ(a.ode_steps, b.ode_steps) << i;
+  }
+  // Below what they need, the guard stops some of them, and the ensemble counts them.
+  p.max_ode_steps = most / 4;
+  const Ensemble3Result tight = run_ensemble_3d(p, o);
+  std::int64_t stalled = 0;
+  for (const Sample3& s : tight.per_sample) {
+    stalled += s.trajectory.stalled;
+    if (s.trajectory.stalled) {
+      EXPECT_EQ(s.trajectory.status, Status::Trapped);
+    }
+  }
+  EXPECT_GT(stalled, 0);
+  EXPECT_EQ(tight.stalled, stalled);
+  EXPECT_LE(tight.stalled, tight.trapped);
+}
+
 TEST(Engine3d, ARimContactThatStartsAtTheOnsetOfSlidingNeverGainsEnergy) {
   // A ball rolls down a shallow cone into a ring 5% wider than itself and crosses the rim at speed:
   // on the rim the normal force falls (3.6 to 0.12 m g), rolling cannot be held, and the slip grows

@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "funnel/cone.hpp"
+#include "funnel/params.hpp"
 #include "funnel/vec3.hpp"
 #include "funnel/walton.hpp"
 
@@ -36,6 +37,9 @@ struct Contact3Options {
   double abs_tol = 1e-14;       ///< absolute tolerance of the integrator (per step)
   bool detect_periodic = true;  ///< extrapolate conservative contacts once a radial period has repeated
   bool closed_forms = true;     ///< use the 2D closed forms for motion in a meridian plane
+  /// The step guard: accepted integrator steps after which the contact ends as TimeCap before its
+  /// budget (the engine then flags the run `stalled`), >= 1; Params::max_ode_steps.
+  std::int64_t max_steps = default_max_ode_steps;
   /// Unit horizontal direction of the meridian half-plane of a face contact whose centre starts on
   /// the axis (a closed cone's vertex, which every generator reaches): the generator of the
   /// collision that collapsed there. The position alone gives no half-plane.

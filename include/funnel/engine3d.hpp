@@ -69,7 +69,10 @@ struct Trajectory3 {
   std::int64_t ode_steps = 0;       ///< integrator steps of the sustained contacts (cost diagnostic)
   bool periodic = false;            ///< ended (trapped) by a conservative contact repeating forever
   bool stopped = false;             ///< ended early by EventSink3::finished() (status Trapped)
-  bool stalled = false;             ///< ended by the Zeno guard (status Trapped); never expected
+  /// Ended by a guard before the time cap (status Trapped): an integrated contact reached
+  /// Params::max_ode_steps steps (the stick-slip of docs/robustness.md, finding 22) or 100 000
+  /// phases, or 1000 events in a row took no time. The CLI warns of it; outputs say `stalled`.
+  bool stalled = false;
   State3 final_state;               ///< state when the run ended
   State3 exit_state;                ///< state at the exit level (status Exited only)
 };

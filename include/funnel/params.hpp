@@ -14,6 +14,11 @@ namespace funnel {
 
 struct ProfileSpec;
 
+/// The default step guard of a 3D sustained contact (Params::max_ode_steps): no physical contact
+/// needs it within the default time cap, except an exactly circular orbit, which never repeats a
+/// radial period (and the stick-slip of docs/robustness.md, finding 22).
+inline constexpr std::int64_t default_max_ode_steps = 20'000'000;
+
 /// Physical and numerical parameters of one funnel run. Units: H = g = m = 1.
 struct Params {
   double theta = 60.0;        ///< wall angle to the horizontal, degrees, 0 < theta < 90
@@ -47,10 +52,14 @@ struct Params {
   double right_angle() const { return is_unset(theta_right) ? theta : theta_right; }
   /// True for the paper's symmetric V (no per-side angle, no spout, no profile).
   bool plain_v() const { return left_angle() == theta && right_angle() == theta && spout_length == 0.0 && !profile; }
-  // 3D only (the axisymmetric funnel); 0 in 2D.
+  // 3D only (the axisymmetric funnel); at their defaults in 2D.
   double release_w = 0.0;       ///< initial velocity along z, out of the release's meridian plane, units sqrt(gH), finite
   double release_spin_x = 0.0;  ///< initial spin about x, units sqrt(g/H), finite
   double release_spin_y = 0.0;  ///< initial spin about the vertical axis, units sqrt(g/H), finite
+  /// The step guard of an integrated sustained contact: accepted integrator steps after which the
+  /// contact, and the run, end as trapped with the trajectory's `stalled` flag (docs/model.md §9),
+  /// >= 1; its default in 2D.
+  std::int64_t max_ode_steps = default_max_ode_steps;
 };
 
 /// The space of a simulation: the paper's 2D funnel, or the funnel revolved about its axis in 3D.
@@ -86,10 +95,11 @@ struct ParameterInfo {
 std::span<const ParameterInfo> parameters();
 
 /// Every model parameter of the 3D funnel: those of parameters(), then release-w,
-/// release-spin-x and release-spin-y (release-spin is the spin about z).
+/// release-spin-x, release-spin-y (release-spin is the spin about z) and max-ode-steps.
 std::span<const ParameterInfo> parameters(Space space);
 
-/// True for a parameter that only the 3D funnel has (release-w, release-spin-x, release-spin-y).
+/// True for a parameter that only the 3D funnel has (release-w, release-spin-x, release-spin-y,
+/// max-ode-steps).
 bool only_3d(const ParameterInfo& parameter);
 
 /// The parameter with this command-line name or output key ("t-max" or "t_max"); null if none.
@@ -118,7 +128,8 @@ std::optional<ParamError> validate(const Params& params);
 /// funnel orbit): each in its own range, independent of the funnel's gap and release line.
 std::optional<ParamError> validate_orbit(const Params& params);
 
-/// validate(params), then the space: in 2D every 3D-only parameter must be 0.
+/// validate(params), then the space: in 2D every 3D-only parameter must be at its default (0 for
+/// the release's velocity and spins).
 std::optional<ParamError> validate(const Params& params, Space space);
 
 /// Valid-range text of a parameter by its name (e.g. "theta"), for help texts; empty if unknown.

@@ -12,6 +12,7 @@ import math
 import numbers
 import os
 import tomllib
+import warnings
 
 import numpy as np
 
@@ -37,9 +38,10 @@ MODEL_PARAMETERS = tuple(p["key"] for p in PARAMETERS if p["option"]) or (
     "release_u", "release_v", "release_spin")
 
 #: The model keyword arguments of the 3D funnel only (space="3d"): release_w (velocity along z),
-#: release_spin_x, release_spin_y (release_spin is the spin about z).
+#: release_spin_x, release_spin_y (release_spin is the spin about z) and max_ode_steps (the step
+#: guard of an integrated contact).
 MODEL_PARAMETERS_3D_ONLY = tuple(_funnel.parameters_3d()) if _funnel is not None else (
-    "release_w", "release_spin_x", "release_spin_y")
+    "release_w", "release_spin_x", "release_spin_y", "max_ode_steps")
 
 #: The observables of a 3D trajectory: those of 2D, then exit_z, exit_w, exit_spin_x,
 #: exit_spin_y and orbits (turns about the axis).
@@ -185,6 +187,22 @@ def _text_columns(columns, names):
     return columns
 
 
+class StalledWarning(RuntimeWarning):
+    """Some 3D runs were ended by a guard before ``t_max`` (status trapped, ``stalled`` true):
+    most often a sustained contact that reached ``max_ode_steps`` integrator steps (docs/robustness.md,
+    finding 22)."""
+
+
+def _warn_stalled(stalled, runs):
+    """Warns (StalledWarning) when ``stalled`` of ``runs`` 3D runs stalled, as the CLI does on stderr."""
+    if stalled:
+        what = "the run" if runs == 1 else f"{stalled} of {runs} runs"
+        warnings.warn(f"{what} stalled: a guard ended {'it' if runs == 1 else 'them'} before t_max, most often a "
+                      "sustained contact that reached max_ode_steps integrator steps (at the default 2e7, a stick-slip "
+                      "that the integrator resolves only in tiny steps: docs/robustness.md, finding 22); status trapped, 'stalled' in the "
+                      "result; a smaller max_ode_steps bounds the cost", StalledWarning, stacklevel=3)
+
+
 def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **model):
     """Simulate one trajectory released at x0 = release * L.
 
@@ -194,7 +212,8 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
     (``release_spin`` is the spin about z). The result has the 2D keys (exit_speed |v|,
     exit_angle from the downward vertical >= 0, exit_spin about z) plus ``z0``, ``w0``,
     ``omega0`` (a 3-vector), ``exit_z``, ``exit_w``, ``exit_spin_x``, ``exit_spin_y``,
-    ``orbits`` (turns about the axis, >= 0), ``orbits_signed`` and ``periodic``; its events
+    ``orbits`` (turns about the axis, >= 0), ``orbits_signed``, ``periodic`` and ``stalled`` (ended
+    by a guard before ``t_max``, most often ``max_ode_steps``: a :class:`StalledWarning` says so); its events
     add z, w_before/after and omega_x/y/z_before/after (slip_before and j_t are magnitudes).
     ``wear_bins`` is 2D only.
 
@@ -256,6 +275,7 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
         result = core.simulate_3d(_model("simulate", model, "3d"), _scalar("release", release), _flag("events", events))
         if events:
             _text_columns(result["events"], ("kind", "regime"))
+        _warn_stalled(int(result["stalled"]), 1)
         return result
     result = core.simulate(_model("simulate", model), _scalar("release", release), _flag("events", events),
                            _wear_bins(wear_bins), _geometry(geometry))
@@ -318,8 +338,9 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
     With ``space="3d"`` (the funnel revolved about its axis, see :func:`simulate`) the
     releases are "disk" (the default) or "line" at z = 0, ``velocity_sd`` adds random
     horizontal velocities (u, w), and the result holds the statistics of
-    :data:`OBSERVABLES_3D` (orbits included) and ``periodic``; uniform, gaussian and
-    wear_bins are 2D only.
+    :data:`OBSERVABLES_3D` (orbits included), ``periodic`` and ``stalled`` (the counts among the
+    trapped; stalled ones raise a :class:`StalledWarning`); uniform, gaussian and wear_bins are
+    2D only.
 
     Parameters
     ----------
@@ -384,6 +405,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
                                   _progress_callback(progress, "ensemble"))
         if per_sample:
             _text_columns(result["per_sample"], ("status",))
+        _warn_stalled(result["stalled"], result["samples"])
         return result
     release_dist = "line" if release_dist is None else release_dist
     release, release_sd = _gaussian(str(release_dist), release, release_sd)

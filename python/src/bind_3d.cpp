@@ -115,6 +115,7 @@ void put_trajectory_3d(py::dict& d, const funnel::Trajectory3& t) {
   }
   d["orbits_signed"] = t.orbits;
   d["periodic"] = t.periodic;
+  d["stalled"] = t.stalled;
 }
 
 void put_summaries_3d(py::dict& d, const funnel::Ensemble3Result& r) {
@@ -136,6 +137,7 @@ void put_summaries_3d(py::dict& d, const funnel::Ensemble3Result& r) {
   counts["trapped"] = r.trapped;
   d["status_counts"] = counts;
   d["periodic"] = r.periodic;
+  d["stalled"] = r.stalled;
   d["total_collisions"] = r.total_collisions;
 }
 

@@ -119,3 +119,31 @@ def test_ctrl_c_interrupts_a_3d_ensemble_whose_tasks_take_long():
     finally:
         timer.cancel()
     assert time.monotonic() - start < 6
+
+
+#: A ball hovering at the limit of rolling on an 86-degree cone (docs/robustness.md, finding 22):
+#: with the default guard its contact takes 2e7 integrator steps, about 20 s.
+STEEP_STICK_SLIP = dict(theta=86.01593143426537, e=0.14390672371155014, mu=0.8610508103691801,
+                        beta0=-0.15092973196734505, radius=0.00022010929764117512, gap=0.0004446501503738709,
+                        t_max=66.4595276798649, release_spin=1.7457709304520292,
+                        release_spin_x=-20.732256122143752, release_spin_y=17.483654399884536)
+
+
+def test_a_run_stopped_by_the_step_guard_is_stalled_and_warns():
+    with pytest.warns(funnel.StalledWarning, match="the run stalled"):
+        t = funnel.simulate(0.6557602573781002, space="3d", max_ode_steps=5000, **STEEP_STICK_SLIP)
+    assert t["status"] == "trapped" and t["stalled"] is True
+    assert t["duration"] < STEEP_STICK_SLIP["t_max"]
+    assert t["params"]["max_ode_steps"] == 5000
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an ordinary run warns of nothing
+        plain = funnel.simulate(0.4, space="3d", theta=60, release_w=0.05)
+    assert plain["stalled"] is False
+    with pytest.warns(funnel.StalledWarning, match=r"of 61 runs stalled"):
+        e = funnel.ensemble(samples=61, space="3d", theta=50, e=0.9, mu=0.2, gap=0, t_max=60, velocity_sd=0.2,
+                            seed=9, max_ode_steps=20000)
+    assert 0 < e["stalled"] <= e["status_counts"]["trapped"]
+    with pytest.raises(ValueError, match="max-ode-steps"):
+        funnel.simulate(0.3, max_ode_steps=5000)  # 2D
+    assert "max_ode_steps" in funnel.MODEL_PARAMETERS_3D_ONLY
