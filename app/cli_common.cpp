@@ -105,7 +105,7 @@ Space to_space(const std::string& text) {
 std::vector<Axis> to_axes(const ModelOptions& options) {
   std::vector<Axis> axes;
   for (const ParameterInfo& info : parameters(Space::ThreeD)) {
-    // 3D parameters too: in 2D, validate_all then rejects any value but 0.
+    // 3D parameters too: in 2D, validate_all then rejects any value but their default.
     if (!info.option) continue;
     const std::string name(info.name);
     const auto it = options.given.find(name);
@@ -290,21 +290,25 @@ std::vector<std::string> comma_items(const std::string& text) {
   return items;
 }
 
-void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std::int64_t runs) {
+void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std::int64_t runs,
+                  const std::string& where, std::int64_t guard) {
   if (stalled == 0) return;
   const bool one = runs == 1;
-  const bool three_d = space == Space::ThreeD;
   std::string text = who + ": warning: ";
-  text += one ? "the run stalled: a guard ended it before t-max, "
-              : std::to_string(stalled) + " of " + std::to_string(runs) + " runs stalled: a guard ended them before t-max, ";
-  text += three_d ? "most often a sustained contact that reached max-ode-steps integrator steps (at the default "
-                    "2e7, a stick-slip that the integrator resolves only in tiny steps: docs/robustness.md, finding "
-                    "22). "
-                  : "after 1000 events in a row that took no time (docs/model.md §3). ";
-  text += one ? "Its status is trapped" : "They count as trapped";
-  if (three_d) {
-    text += one ? ", with \"stalled\": true in the JSON; a smaller --max-ode-steps bounds the cost of such a run"
-                : " (\"stalled\" in the JSON); a smaller --max-ode-steps bounds their cost";
+  text += one ? "the run stalled: an internal guard ended it before t-max"
+              : std::to_string(stalled) + " of " + std::to_string(runs) +
+                    " runs stalled: an internal guard ended them before t-max";
+  if (space == Space::TwoD) {
+    text += " (1000 events in a row that took no time, or hand-overs between faces and edges that never ended: "
+            "docs/model.md §3). Its status is trapped";
+  } else {
+    text += ", most often a sustained contact that reached --max-ode-steps";
+    if (guard > 0) text += " (here " + std::to_string(guard) + ")";
+    text += " integrator steps (at the default 2e7, a stick-slip that the integrator resolves only in tiny steps: "
+            "docs/robustness.md, finding 22). ";
+    text += one ? "Its status is trapped and its results stop at the guard ("
+                : "Their status is trapped and their results stop at the guard (";
+    text += where + "). A higher --max-ode-steps lets such runs go on; a lower one bounds their cost";
   }
   std::cerr << text << ".\n";
 }

@@ -105,9 +105,12 @@ Format to_format(const std::string& text);
 /// caller to reject by name): "a,b" -> {"a", "b"}.
 std::vector<std::string> comma_items(const std::string& text);
 
-/// Warns on standard error when `stalled` of `runs` runs (runs >= 1) were ended by a guard before
-/// the time cap (Trajectory::stalled, Trajectory3::stalled: status trapped), naming the likely
-/// guard of the space; `who` is the command ("funnel ensemble"). Nothing when stalled is 0.
-void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std::int64_t runs);
+/// Warns on standard error when `stalled` of `runs` runs (runs >= 1) were ended by an internal
+/// guard before the time cap (Trajectory::stalled, Trajectory3::stalled: status trapped), naming
+/// the likely guard of the space: `who` is the command ("funnel ensemble"), `where` says where
+/// the output shows it ("the count stalled"; 3D only), `guard` is the max-ode-steps in effect (0:
+/// it varies). Nothing when stalled is 0.
+void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std::int64_t runs,
+                  const std::string& where = "", std::int64_t guard = 0);
 
 }  // namespace funnel::cli

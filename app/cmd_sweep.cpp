@@ -276,7 +276,6 @@ struct SweepCommand {
         if (f == nullptr) throw OutputError("cannot append to '" + partial + "': " + std::strerror(errno));
       }
       int append_error = 0;
-      std::int64_t stalled = 0;  // samples of the points computed now ended by a guard (3D)
       ProgressBar bar("funnel sweep", true);
       // One finished point: its row (the statistics' part from 2D or 3D) is kept and appended.
       auto point_done = [&](std::size_t k, const std::vector<std::string>& stats) {
@@ -294,16 +293,13 @@ struct SweepCommand {
           };
       const auto progress = [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); };
       if (sp == Space::ThreeD) {
-        run_sweep_3d(todo, options3, progress, [&](std::size_t k, const Ensemble3Result& r) {
-          stalled += r.stalled;
-          point_done(k, ensemble_row(r));
-        });
+        run_sweep_3d(todo, options3, progress,
+                     [&](std::size_t k, const Ensemble3Result& r) { point_done(k, ensemble_row(r)); });
       } else {
         distributed_sweep(todo, options, progress,
                           [&](std::size_t k, const EnsembleResult& r) { point_done(k, ensemble_row(r)); });
       }
       bar.finish(std::to_string(todo.size()) + " of " + total + " points computed");
-      warn_stalled("funnel sweep", sp, stalled, static_cast<std::int64_t>(todo.size()) * options.samples);
       if (f != nullptr) std::fclose(f);
       if (append_error != 0) {
         std::cerr << "funnel sweep: warning: could not append to '" << partial << "': " << std::strerror(append_error)
@@ -314,6 +310,17 @@ struct SweepCommand {
     std::string text = header;
     for (std::size_t i = 0; i < points.size(); ++i) text += done.at(i);
     write_output(out, text);
+    if (sp == Space::ThreeD) {
+      // Every point's stalled count, those resumed from a partial file included.
+      const auto column = static_cast<std::size_t>(std::find(cols.begin(), cols.end(), "stalled") - cols.begin());
+      std::int64_t stalled = 0;
+      for (const auto& [i, row] : done) stalled += std::stoll(comma_items(row).at(column));
+      const bool one_guard = std::all_of(points.begin(), points.end(), [&](const Params& p) {
+        return p.max_ode_steps == points.front().max_ode_steps;
+      });
+      warn_stalled("funnel sweep", sp, stalled, static_cast<std::int64_t>(points.size()) * options.samples,
+                   "the column stalled", one_guard ? points.front().max_ode_steps : 0);
+    }
     if (!target.regular()) {
       std::cerr << "funnel sweep: provenance (FILE.csv.json) not written: --out '" << out << "' is not a regular file\n";
       return;

@@ -84,12 +84,16 @@ nlohmann::ordered_json trajectory_json(const Trajectory3& t) {
 std::vector<std::string> trajectory_columns_3d() {
   std::vector<std::string> cols{"status"};
   for (const ObservableInfo& o : observables_3d()) cols.emplace_back(o.name);
+  cols.emplace_back("periodic");
+  cols.emplace_back("stalled");
   return cols;
 }
 
 std::vector<std::string> trajectory_row(const Trajectory3& t) {
   std::vector<std::string> row{std::string(to_string(t.status))};
   for (const ObservableInfo& o : observables_3d()) row.push_back(field(value(t, o.id), o.count));
+  row.emplace_back(t.periodic ? "1" : "0");
+  row.emplace_back(t.stalled ? "1" : "0");
   return row;
 }
 
@@ -186,7 +190,7 @@ std::vector<std::string> ensemble_columns_3d() {
     if (!o.summarized) continue;
     for (const char* f : summary_fields) cols.push_back(std::string(o.name) + "_" + f);
   }
-  for (const char* c : {"exited", "rest", "trapped", "total_collisions"}) cols.emplace_back(c);
+  for (const char* c : {"exited", "rest", "trapped", "periodic", "stalled", "total_collisions"}) cols.emplace_back(c);
   return cols;
 }
 
@@ -197,7 +201,9 @@ std::vector<std::string> ensemble_row(const Ensemble3Result& r) {
     const Summary v = reported(r, o);
     for (const double x : {v.mean, v.std, v.sem, v.min, v.max}) row.push_back(field(x, false));
   }
-  for (const std::int64_t c : {r.exited, r.rest, r.trapped, r.total_collisions}) row.push_back(std::to_string(c));
+  for (const std::int64_t c : {r.exited, r.rest, r.trapped, r.periodic, r.stalled, r.total_collisions}) {
+    row.push_back(std::to_string(c));
+  }
   return row;
 }
 

@@ -34,7 +34,8 @@ std::vector<std::string> param_row(const Params& p, Space space);
 
 /// Observables of one 3D trajectory (exit ones null if it did not exit), with "orbits_signed".
 nlohmann::ordered_json trajectory_json(const Trajectory3& t);
-/// Column names and values of one 3D trajectory's observables (status first).
+/// Column names and values of one 3D trajectory's observables (status first, then periodic and
+/// stalled as 0 or 1).
 std::vector<std::string> trajectory_columns_3d();
 std::vector<std::string> trajectory_row(const Trajectory3& t);
 

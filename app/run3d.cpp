@@ -68,7 +68,8 @@ void write_trajectory_3d(const Params& params, double release, bool events, Form
     text = csv_line(cols) + csv_line(row);
   }
   write_output(out, text);
-  warn_stalled("funnel trajectory", Space::ThreeD, t.stalled ? 1 : 0, 1);
+  warn_stalled("funnel trajectory", Space::ThreeD, t.stalled ? 1 : 0, 1, "\"stalled\" in the output",
+               params.max_ode_steps);
 }
 
 void write_ensemble_3d(const Params& params, const Ensemble3Options& options, bool per_sample, Format format,
@@ -124,7 +125,9 @@ void write_ensemble_3d(const Params& params, const Ensemble3Options& options, bo
     text = csv_line(cols) + csv_line(row);
   }
   write_output(out, text);
-  warn_stalled("funnel ensemble", Space::ThreeD, r.stalled, r.samples);
+  warn_stalled("funnel ensemble", Space::ThreeD, r.stalled, r.samples,
+               per_sample ? "\"stalled\" for each sample" : "the count \"stalled\"; each sample's with --per-sample",
+               params.max_ode_steps);
 }
 
 }  // namespace funnel::cli

@@ -5,10 +5,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "cli_util.hpp"
 
@@ -16,6 +18,23 @@ namespace {
 
 using namespace funnel_test;
 using nlohmann::json;
+
+/// The fields of each line of a CSV text without quoted fields.
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t end = text.find('\n', at);
+    std::vector<std::string>& row = rows.emplace_back();
+    for (std::size_t field = at;;) {
+      const std::size_t comma = std::min(text.find(',', field), end);
+      row.push_back(text.substr(field, comma - field));
+      if (comma == end) break;
+      field = comma + 1;
+    }
+    at = end + 1;
+  }
+  return rows;
+}
 
 bool near(double a, double b, double rel) { return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)); }
 
@@ -145,11 +164,27 @@ TEST_F(Cli, ARunStoppedByTheStepGuardIsFlaggedStalledAndWarnedOf) {
   EXPECT_LE(stalled, ej["status_counts"]["trapped"].get<std::int64_t>());
   EXPECT_NE(e.output.find("funnel ensemble: warning: " + std::to_string(stalled) + " of 61 runs stalled"),
             std::string::npos) << e.output;
-  // So does a sweep, over the points it computed.
+  // Each sample says whether it stalled (the CSV's last column).
+  ASSERT_EQ(run("ensemble --space 3d --theta 50 --e 0.9 --mu 0.2 --gap 0 --t-max 60 --samples 61 --velocity-sd 0.2 "
+                "--seed 9 --max-ode-steps 20000 --per-sample --format csv --out " + path("p.csv")).code, 0);
+  const std::vector<std::vector<std::string>> per = csv_rows(read("p.csv"));
+  ASSERT_EQ(per.size(), 62u);
+  EXPECT_EQ(per[0][per[0].size() - 2], "periodic");
+  EXPECT_EQ(per[0].back(), "stalled");
+  EXPECT_EQ(std::count_if(per.begin() + 1, per.end(), [](const auto& row) { return row.back() == "1"; }), stalled);
+  // A sweep has a column of them per point, and its warning sums them over the grid.
   const Result s = run("sweep --space 3d --theta 50 --e 0.9 --mu 0.2 --gap 0 --t-max 60 --samples 61 "
-                       "--velocity-sd 0.2 --seed 9 --max-ode-steps 20000 --out " + path("s.csv"));
+                       "--velocity-sd 0.2 --seed 9 --max-ode-steps 20000,40000 --out " + path("s.csv"));
   ASSERT_EQ(s.code, 0) << s.output;
-  EXPECT_NE(s.output.find("funnel sweep: warning: " + std::to_string(stalled) + " of 61 runs stalled"),
+  const std::vector<std::vector<std::string>> sweep = csv_rows(read("s.csv"));
+  ASSERT_EQ(sweep.size(), 3u);
+  const auto column = static_cast<std::size_t>(std::find(sweep[0].begin(), sweep[0].end(), "stalled") - sweep[0].begin());
+  ASSERT_LT(column, sweep[0].size());
+  EXPECT_EQ(sweep[0][column - 1], "periodic");
+  const std::int64_t first = std::stoll(sweep[1][column]), second = std::stoll(sweep[2][column]);
+  EXPECT_EQ(first, stalled);  // the same ensemble as above
+  EXPECT_LT(second, first);   // a higher guard lets more of them finish
+  EXPECT_NE(s.output.find("funnel sweep: warning: " + std::to_string(first + second) + " of 122 runs stalled"),
             std::string::npos) << s.output;
   // The guard is a 3D parameter: refused in 2D and out of its range, before any output.
   expect_rejected(run("trajectory --release 0.3 --max-ode-steps 5000 --out " + path("x.json")), "max-ode-steps", "5000");

@@ -193,14 +193,17 @@ class StalledWarning(RuntimeWarning):
     finding 22)."""
 
 
-def _warn_stalled(stalled, runs):
-    """Warns (StalledWarning) when ``stalled`` of ``runs`` 3D runs stalled, as the CLI does on stderr."""
+def _warn_stalled(stalled, runs, where):
+    """Warns (StalledWarning) when ``stalled`` of ``runs`` 3D runs stalled, as the CLI does on
+    stderr; ``where`` says where the result shows it."""
     if stalled:
-        what = "the run" if runs == 1 else f"{stalled} of {runs} runs"
-        warnings.warn(f"{what} stalled: a guard ended {'it' if runs == 1 else 'them'} before t_max, most often a "
-                      "sustained contact that reached max_ode_steps integrator steps (at the default 2e7, a stick-slip "
-                      "that the integrator resolves only in tiny steps: docs/robustness.md, finding 22); status trapped, 'stalled' in the "
-                      "result; a smaller max_ode_steps bounds the cost", StalledWarning, stacklevel=3)
+        what = "the run stalled: an internal guard ended it" if runs == 1 else \
+            f"{stalled} of {runs} runs stalled: an internal guard ended them"
+        warnings.warn(f"{what} before t_max, most often a sustained contact that reached max_ode_steps integrator "
+                      "steps (at the default 2e7, a stick-slip that the integrator resolves only in tiny steps: "
+                      f"docs/robustness.md, finding 22); status trapped, the results stop at the guard ({where}). "
+                      "A higher max_ode_steps lets such runs go on; a lower one bounds their cost",
+                      StalledWarning, stacklevel=3)
 
 
 def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **model):
@@ -275,7 +278,7 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
         result = core.simulate_3d(_model("simulate", model, "3d"), _scalar("release", release), _flag("events", events))
         if events:
             _text_columns(result["events"], ("kind", "regime"))
-        _warn_stalled(int(result["stalled"]), 1)
+        _warn_stalled(int(result["stalled"]), 1, "'stalled' in the result")
         return result
     result = core.simulate(_model("simulate", model), _scalar("release", release), _flag("events", events),
                            _wear_bins(wear_bins), _geometry(geometry))
@@ -405,7 +408,8 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
                                   _progress_callback(progress, "ensemble"))
         if per_sample:
             _text_columns(result["per_sample"], ("status",))
-        _warn_stalled(result["stalled"], result["samples"])
+        _warn_stalled(result["stalled"], result["samples"],
+                      "'stalled' for each sample" if per_sample else "the count 'stalled'; each sample's with per_sample")
         return result
     release_dist = "line" if release_dist is None else release_dist
     release, release_sd = _gaussian(str(release_dist), release, release_sd)
@@ -477,11 +481,13 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release
         _gaussian("disk" if release_dist is None else str(release_dist), release, release_sd)
         axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
                 if name in model]
-        return _text_columns(core.sweep_3d(axes, _count("samples", samples),
-                                           "disk" if release_dist is None else str(release_dist),
-                                           _count("threads", threads), _seed(seed),
-                                           _scalar("velocity_sd", velocity_sd),
-                                           _progress_callback(progress, "sweep")), ("release_dist",))
+        result = _text_columns(core.sweep_3d(axes, _count("samples", samples),
+                                             "disk" if release_dist is None else str(release_dist),
+                                             _count("threads", threads), _seed(seed),
+                                             _scalar("velocity_sd", velocity_sd),
+                                             _progress_callback(progress, "sweep")), ("release_dist",))
+        _warn_stalled(int(result["stalled"].sum()), int(result["samples"].sum()), "the column 'stalled'")
+        return result
     release_dist = "line" if release_dist is None else release_dist
     release, release_sd = _gaussian(str(release_dist), release, release_sd)
     _check_names("sweep", model)

@@ -198,6 +198,8 @@ py::dict ensemble_3d(const std::map<std::string, double>& model, std::int64_t sa
       s[py::str(std::string(o3.name))] =
           column<double>(n, [&](std::size_t i) { return funnel::value(ps[i].trajectory, o3.id); });
     }
+    s["periodic"] = column<bool>(n, [&](std::size_t i) { return ps[i].trajectory.periodic; });
+    s["stalled"] = column<bool>(n, [&](std::size_t i) { return ps[i].trajectory.stalled; });
     d["per_sample"] = s;
   }
   return d;
@@ -234,7 +236,12 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
   const std::size_t n = points.size();
   for (const funnel::ParameterInfo& info : funnel::parameters(funnel::Space::ThreeD)) {
     if (!info.option) continue;
-    d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return info.get(points[i]); });
+    if (info.integer) {
+      d[py::str(info.key())] =
+          column<std::int64_t>(n, [&](std::size_t i) { return static_cast<std::int64_t>(info.get(points[i])); });
+    } else {
+      d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return info.get(points[i]); });
+    }
   }
   // As funnel sweep --space 3d's CSV: the distribution and the sample count after the parameters.
   d["release_dist"] = text_column(n, [&](std::size_t) { return funnel::to_string(o.dist); });
@@ -255,6 +262,8 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
   d["exited"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].exited; });
   d["rest"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].rest; });
   d["trapped"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].trapped; });
+  d["periodic"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].periodic; });
+  d["stalled"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].stalled; });
   d["total_collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].total_collisions; });
   return d;
 }

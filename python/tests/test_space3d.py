@@ -144,6 +144,15 @@ def test_a_run_stopped_by_the_step_guard_is_stalled_and_warns():
         e = funnel.ensemble(samples=61, space="3d", theta=50, e=0.9, mu=0.2, gap=0, t_max=60, velocity_sd=0.2,
                             seed=9, max_ode_steps=20000)
     assert 0 < e["stalled"] <= e["status_counts"]["trapped"]
+    with pytest.warns(funnel.StalledWarning):
+        each = funnel.ensemble(samples=61, space="3d", theta=50, e=0.9, mu=0.2, gap=0, t_max=60, velocity_sd=0.2,
+                               seed=9, max_ode_steps=20000, per_sample=True)
+    assert int(np.sum(each["per_sample"]["stalled"])) == e["stalled"]
+    with pytest.warns(funnel.StalledWarning, match=r"of 122 runs stalled"):
+        s = funnel.sweep(samples=61, space="3d", theta=50, e=0.9, mu=0.2, gap=0, t_max=60, velocity_sd=0.2, seed=9,
+                         max_ode_steps=[20000, 40000])
+    assert s["stalled"][0] == e["stalled"] and s["stalled"][1] < s["stalled"][0]
+    assert s["max_ode_steps"].dtype == np.int64
     with pytest.raises(ValueError, match="max-ode-steps"):
         funnel.simulate(0.3, max_ode_steps=5000)  # 2D
     assert "max_ode_steps" in funnel.MODEL_PARAMETERS_3D_ONLY
