@@ -186,6 +186,18 @@ TEST_F(Cli, ARunStoppedByTheStepGuardIsFlaggedStalledAndWarnedOf) {
   EXPECT_LT(second, first);   // a higher guard lets more of them finish
   EXPECT_NE(s.output.find("funnel sweep: warning: " + std::to_string(first + second) + " of 122 runs stalled"),
             std::string::npos) << s.output;
+  // Resumed with the first point from a partial file, the sweep still counts that point's.
+  const std::string text = read("s.csv");
+  const std::string first_row = text.substr(text.find('\n') + 1, text.find('\n', text.find('\n') + 1) - text.find('\n'));
+  write("r.csv.partial", "# funnel sweep spec: " + nlohmann::ordered_json::parse(read("s.csv.json"))["spec"].dump() + "\npoint," +
+                             text.substr(0, text.find('\n') + 1) + "0," + first_row);
+  const Result resumed = run("sweep --space 3d --theta 50 --e 0.9 --mu 0.2 --gap 0 --t-max 60 --samples 61 "
+                             "--velocity-sd 0.2 --seed 9 --max-ode-steps 20000,40000 --resume --out " + path("r.csv"));
+  ASSERT_EQ(resumed.code, 0) << resumed.output;
+  EXPECT_EQ(json::parse(read("r.csv.json"))["resumed_points"], 1);
+  EXPECT_EQ(read("r.csv"), text);
+  EXPECT_NE(resumed.output.find("funnel sweep: warning: " + std::to_string(first + second) + " of 122 runs stalled"),
+            std::string::npos) << resumed.output;
   // The guard is a 3D parameter: refused in 2D and out of its range, before any output.
   expect_rejected(run("trajectory --release 0.3 --max-ode-steps 5000 --out " + path("x.json")), "max-ode-steps", "5000");
   expect_rejected(run("trajectory --space 3d --release 0.3 --max-ode-steps 0 --out " + path("x.json")),
