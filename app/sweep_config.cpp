@@ -17,7 +17,8 @@
 namespace funnel::cli {
 
 const char* const sweep_config_layout =
-    "a sweep config sets model parameters (theta, e, mu, beta0, radius, gap, inertia, t-max, max-collisions) "
+    "a sweep config sets model parameters (theta, e, mu, beta0, radius, gap, inertia, t-max, max-collisions, ...; "
+    "in 3d also release-w, release-spin-x, release-spin-y, max-ode-steps) "
     "at the top level or in a [grid] table, each a number, an array such as [0, 0.1, 1] or a string such as "
     "\"40:50:0.5\" or \"0,1,5\"; samples and release-dist go at the top level";
 
@@ -54,8 +55,21 @@ std::string canonical_key(std::string key) {
   return key;
 }
 
+/// The model parameters a config may set: those of either space (a 3D one in a 2D sweep is then
+/// refused by the sweep's validation, naming it and --space 3d).
+const std::vector<std::string>& config_parameter_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const ParameterInfo& p : parameters(Space::ThreeD)) {
+      if (p.option) out.emplace_back(p.name);
+    }
+    return out;
+  }();
+  return names;
+}
+
 bool is_parameter(const std::string& key) {
-  const auto& names = sweep_parameter_names();
+  const auto& names = config_parameter_names();
   return std::find(names.begin(), names.end(), key) != names.end();
 }
 
@@ -103,7 +117,7 @@ SweepConfig read_sweep_config(const std::string& file) {
       throw UsageError("invalid config = '" + file + "': " + key + " is given more than once");
     }
   };
-  std::vector<std::string> valid = sweep_parameter_names();
+  std::vector<std::string> valid = config_parameter_names();
   for (const char* k : {"samples", "release-dist", "grid"}) valid.emplace_back(k);
   for (auto&& [k, node] : tbl) {
     const std::string key = canonical_key(std::string(k.str()));
@@ -116,7 +130,7 @@ SweepConfig read_sweep_config(const std::string& file) {
       for (auto&& [ik, inode] : *inner) {
         const std::string ikey = canonical_key(std::string(ik.str()));
         if (!is_parameter(ikey)) {
-          const auto s = nearest(ikey, sweep_parameter_names());
+          const auto s = nearest(ikey, config_parameter_names());
           throw UsageError("invalid key '" + std::string(ik.str()) + "' in [" + key + "] of config '" + file + "'" +
                            (s ? " (did you mean '" + *s + "'?)" : "") + ": [" + key +
                            "] holds model parameters only; " + sweep_config_layout);

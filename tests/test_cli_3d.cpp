@@ -207,6 +207,24 @@ TEST_F(Cli, ARunStoppedByTheStepGuardIsFlaggedStalledAndWarnedOf) {
   EXPECT_FALSE(std::filesystem::exists(path("x.json")));
 }
 
+TEST_F(Cli, ASweepConfigSetsTheThreeDimensionalParameters) {
+  // They were refused as unknown keys, so a 3D grid could not live in a config file.
+  write("g.toml", "samples = 8\n[grid]\ntheta = [50, 60]\nrelease_w = 0.05\nmax-ode-steps = \"1000,2000\"\n");
+  const Result r = run("sweep --space 3d --config " + path("g.toml") + " --out " + path("s.csv"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  ASSERT_EQ(run("sweep --space 3d --theta 50,60 --release-w 0.05 --max-ode-steps 1000,2000 --samples 8 --out " +
+                path("t.csv")).code, 0);
+  EXPECT_EQ(read("s.csv"), read("t.csv"));
+  // In 2D they are refused by name, before any output.
+  expect_rejected(run("sweep --config " + path("g.toml") + " --out " + path("x.csv")), "release-w", "0.05");
+  EXPECT_FALSE(std::filesystem::exists(path("x.csv")));
+  // A misspelt one is still an unknown key, with the nearest valid one.
+  write("bad.toml", "release-spin-q = 1\n");
+  const Result bad = run("sweep --space 3d --config " + path("bad.toml") + " --out " + path("x.csv"));
+  EXPECT_EQ(bad.code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("did you mean 'release-spin"), std::string::npos) << bad.output;
+}
+
 TEST_F(Cli, TwoDimensionalOutputsKeepTheirColumnsAndThreeDimensionalOnesAddTheirs) {
   ASSERT_EQ(run("trajectory --release 0.3 --events --format csv --out " + path("a.csv")).code, 0);
   const std::string a = read("a.csv");
