@@ -300,7 +300,8 @@ void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std
                     " runs stalled: an internal guard ended them before t-max";
   if (space == Space::TwoD) {
     text += " (1000 events in a row that took no time, or hand-overs between faces and edges that never ended: "
-            "docs/model.md §3). Its status is trapped";
+            "docs/model.md §3). ";
+    text += one ? "Its status is trapped" : "Their status is trapped";
   } else {
     text += ", most often a sustained contact that reached --max-ode-steps";
     if (guard > 0) text += " (here " + std::to_string(guard) + ")";

@@ -57,16 +57,7 @@ std::string canonical_key(std::string key) {
 
 /// The model parameters a config may set: those of either space (a 3D one in a 2D sweep is then
 /// refused by the sweep's validation, naming it and --space 3d).
-const std::vector<std::string>& config_parameter_names() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> out;
-    for (const ParameterInfo& p : parameters(Space::ThreeD)) {
-      if (p.option) out.emplace_back(p.name);
-    }
-    return out;
-  }();
-  return names;
-}
+const std::vector<std::string>& config_parameter_names() { return sweep_parameter_names(Space::ThreeD); }
 
 bool is_parameter(const std::string& key) {
   const auto& names = config_parameter_names();

@@ -78,15 +78,16 @@ std::optional<std::vector<double>> parse_values(std::string_view text, std::stri
   return values;
 }
 
-const std::vector<std::string>& sweep_parameter_names() {
-  static const std::vector<std::string> names = [] {
+const std::vector<std::string>& sweep_parameter_names(Space space) {
+  const auto names_of = [](Space sp) {
     std::vector<std::string> out;
-    for (const ParameterInfo& p : parameters()) {
+    for (const ParameterInfo& p : parameters(sp)) {
       if (p.option) out.emplace_back(p.name);
     }
     return out;
-  }();
-  return names;
+  };
+  static const std::vector<std::string> two_d = names_of(Space::TwoD), three_d = names_of(Space::ThreeD);
+  return space == Space::TwoD ? two_d : three_d;
 }
 
 bool set_parameter(Params& params, std::string_view name, double value) {

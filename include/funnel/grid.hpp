@@ -17,8 +17,9 @@ std::optional<double> parse_number(std::string_view text);
 /// into values; on failure returns nullopt and sets `error` to a reason.
 std::optional<std::vector<double>> parse_values(std::string_view text, std::string& error);
 
-/// Names of the parameters a sweep can vary, in the order of the grid's axes and CSV columns.
-const std::vector<std::string>& sweep_parameter_names();
+/// Names of the parameters a sweep in `space` can vary, in the order of the grid's axes and CSV
+/// columns (3D: the 2D ones, then the 3D-only ones).
+const std::vector<std::string>& sweep_parameter_names(Space space = Space::TwoD);
 
 /// Sets the parameter called `name` (one of sweep_parameter_names()) to `value`.
 /// Returns false for an unknown name or a non-integral max-collisions.
