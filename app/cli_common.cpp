@@ -70,14 +70,20 @@ void add_geometry_option(CLI::App& app, ModelOptions& options) {
 Params base_params(const ModelOptions& options) {
   Params p = default_params();
   if (!options.geometry.empty()) {
-    // The file's walls replace the V: a V parameter given too would be ignored, yet recorded
-    // in the output as if it had been used (and a sweep over it would label equal rows apart).
+    // The file's walls replace the V, and their own materials the parameters': such a parameter
+    // given too would be ignored, yet recorded in the output as if it had been used (and a sweep
+    // over it would label equal rows apart).
     for (const auto& [name, text] : options.given) {
       if (set_by_geometry(name)) {
         throw UsageError("invalid " + name + " = " + text + ": valid range is " + std::string(not_with_geometry));
       }
     }
     p.profile = read_geometry(options.geometry);
+    for (const auto& [name, text] : options.given) {
+      if (const auto why = unused_with_geometry(name, *p.profile)) {
+        throw UsageError("invalid " + name + " = " + text + ": valid range is " + *why);
+      }
+    }
   }
   return p;
 }

@@ -20,6 +20,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "funnel/ensemble.hpp"
+#include "funnel/funnel.hpp"
 #include "funnel/version.hpp"
 #include "mpi_run.hpp"
 #include "funnel/paper/records.hpp"
@@ -131,6 +132,24 @@ std::string resume_command(const std::string& command_line) {
   return cmd;
 }
 
+/// A geometry file's funnel as read: each wall's vertices and its own materials, and the bottom.
+nlohmann::ordered_json profile_json(const ProfileSpec& profile) {
+  nlohmann::ordered_json j;
+  for (const int i : {0, 1}) {
+    auto& w = j[i == 0 ? "left" : "right"];
+    w["vertices"] = nlohmann::ordered_json::array();
+    for (const Vec2 v : profile.sides[static_cast<std::size_t>(i)]) w["vertices"].push_back({v.x, v.y});
+    const auto own = [&](const char* key, const std::array<std::optional<double>, 2>& value) {
+      if (value[static_cast<std::size_t>(i)]) w[key] = *value[static_cast<std::size_t>(i)];
+    };
+    own("e", profile.e);
+    own("mu", profile.mu);
+    own("beta0", profile.beta0);
+  }
+  if (profile.bottom) j["bottom"] = *profile.bottom;
+  return j;
+}
+
 /// Finished points in a partial file: its lines after the spec and the header.
 std::int64_t partial_points(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -216,6 +235,9 @@ struct SweepCommand {
     spec["velocity_sd"] = options.velocity_sd;
     spec["grid"] = nlohmann::ordered_json::array();
     for (const Axis& a : axes) spec["grid"].push_back({{"name", a.name}, {"values", a.values}});
+    // The funnel of a geometry file, as read (its walls and materials, not the file's name): a
+    // partial file of another funnel, or of the same file edited since, is not continued.
+    if (!points.empty() && points.front().profile) spec["geometry"] = profile_json(*points.front().profile);
     const std::string spec_line = "# funnel sweep spec: " + spec.dump() + "\n";
 
     // Rows already computed by an interrupted run ("point,<row>"), by grid index. A partial
@@ -370,8 +392,8 @@ struct SweepCommand {
     buffer << in.rdbuf();
     const std::string text = buffer.str();
     if (text.rfind(spec_line + "point," + header, 0) != 0) {
-      throw UsageError("invalid resume: '" + path + "' was made by a different sweep (grid, samples, release-dist "
-                       "or funnel version); run with --overwrite instead of --resume to discard it");
+      throw UsageError("invalid resume: '" + path + "' was made by a different sweep (grid, samples, release-dist, "
+                       "geometry or funnel version); run with --overwrite instead of --resume to discard it");
     }
     std::size_t pos = spec_line.size() + 6 + header.size();
     std::size_t dropped = 0;

@@ -138,6 +138,20 @@ bool set_by_geometry(std::string_view name) {
   return false;
 }
 
+std::optional<std::string> unused_with_geometry(std::string_view name, const ProfileSpec& profile) {
+  if (set_by_geometry(name)) return std::string(not_with_geometry);
+  const ParameterInfo* p = find_parameter(name);
+  if (p == nullptr) return std::nullopt;
+  const std::array<std::optional<double>, 2>* own = p->name == "e"      ? &profile.e
+                                                    : p->name == "mu"    ? &profile.mu
+                                                    : p->name == "beta0" ? &profile.beta0
+                                                                         : nullptr;
+  if (own == nullptr || !(*own)[0] || !(*own)[1]) return std::nullopt;
+  return "not with a geometry file whose walls all set their own " + std::string(p->name) + " (" +
+         (profile.source.empty() ? std::string("the geometry") : profile.source) + ": left " +
+         format_number(*(*own)[0]) + ", right " + format_number(*(*own)[1]) + ")";
+}
+
 std::string ParamError::message() const {
   return "invalid " + name + " = " + value + ": valid range is " + range;
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "cli_util.hpp"
@@ -261,6 +262,66 @@ TEST_F(Cli, TheVsAnglesAndGapAreRefusedWithAGeometryFile) {
   EXPECT_EQ(file_count(), 2u);  // the geometry file and the config, no output
   // The particle's parameters still go with a file.
   EXPECT_EQ(run("trajectory --release 0.3 --e 0.9 --radius 0.02" + geometry).code, 0);
+}
+
+TEST_F(Cli, AMaterialParameterThatEveryWallSetsIsRefusedWithItsFile) {
+  // Both walls set their own mu: --mu would change nothing, and a sweep over it labelled equal
+  // rows as different. One wall's own e leaves --e the other wall's, which goes with the file.
+  write("lined.toml", "[left]\nvertices = [[-2, 1.6], [-0.1, -0.365]]\nmu = 0.1\n"
+                      "[right]\nvertices = [[0.9, 1.6], [0.1, -0.365]]\ne = 0.5\nmu = 1.2\n");
+  const std::string geometry = " --geometry " + path("lined.toml");
+  const std::string walls = ": valid range is not with a geometry file whose walls all set their own mu (" +
+                            path("lined.toml") + ": left 0.1, right 1.2)";
+  for (const std::string& command : {"trajectory --release 0.3 --mu 0.5" + geometry + " --out " + path("t.json"),
+                                     "ensemble --samples 20 --mu 0.5" + geometry + " --out " + path("e.json"),
+                                     "closed --samples 20 --mu 0.5" + geometry + " --out " + path("c.json")}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("invalid mu = 0.5" + walls), std::string::npos) << r.output;
+  }
+  const Result sweep = run("sweep --samples 20 --mu 0:5:1" + geometry + " --out " + path("s.csv"));
+  EXPECT_EQ(sweep.code, 2) << sweep.output;
+  EXPECT_NE(sweep.output.find("invalid mu = 0:5:1" + walls), std::string::npos) << sweep.output;
+  EXPECT_EQ(file_count(), 1u);  // the geometry file, no output
+  // --e reaches the left wall: two values, two results.
+  const Result e = run("sweep --samples 200 --e 0.5,0.9" + geometry + " --out " + path("e.csv"));
+  ASSERT_EQ(e.code, 0) << e.output;
+  std::stringstream rows(read("e.csv"));
+  std::string header, a, b;
+  std::getline(rows, header);
+  std::getline(rows, a);
+  std::getline(rows, b);
+  const auto stats = [](const std::string& row) { return row.substr(row.find(",line,")); };
+  EXPECT_NE(stats(a), stats(b));
+}
+
+TEST_F(Cli, ASweepOfAGeometryFileResumesOnlyTheSameWalls) {
+  // The partial file of an interrupted sweep records the walls and materials as read: edited
+  // walls are another funnel, whose rows must not be mixed in; a renamed file is the same one.
+  const std::string walls = "mirror = true\n[left]\nvertices = [[-2.0, 1.6], [-0.5, 0.734], [-0.1, -0.365]]\n";
+  write("a.toml", walls);
+  write("renamed.toml", "# the same walls\n" + walls);
+  std::string edited = walls;
+  edited.replace(edited.find("-0.1,"), 5, "-0.12,");
+  write("b.toml", edited);
+  const std::string grid = "sweep --e 0.5,0.7,0.9 --samples 200 --threads 1 --geometry ";
+  ASSERT_EQ(run(grid + path("a.toml") + " --out " + path("full.csv")).code, 0);
+  const nlohmann::ordered_json spec = nlohmann::ordered_json::parse(read("full.csv.json"))["spec"];
+  ASSERT_TRUE(spec.contains("geometry")) << spec.dump();
+  EXPECT_EQ(spec["geometry"]["left"]["vertices"][2][0].get<double>(), -0.1);
+  std::stringstream in(read("full.csv"));
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  // One finished point, as an interrupted run leaves it.
+  const std::string partial = "# funnel sweep spec: " + spec.dump() + "\npoint," + header + "\n0," + first + "\n";
+  write("cut.csv.partial", partial);
+  expect_rejected(run(grid + path("b.toml") + " --out " + path("cut.csv") + " --resume"), "resume", "geometry");
+  EXPECT_EQ(read("cut.csv.partial"), partial);
+  const Result r = run(grid + path("renamed.toml") + " --out " + path("cut.csv") + " --resume");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming: 1 of 3 points"), std::string::npos) << r.output;
+  EXPECT_EQ(read("cut.csv"), read("full.csv"));
 }
 
 }  // namespace

@@ -459,6 +459,52 @@ TEST(Engine3d, TheStepGuardChangesNoRunWhoseContactsNeedFewerSteps) {
   EXPECT_LE(tight.stalled, tight.trapped);
 }
 
+TEST(Engine3d, TheStepGuardCountsTheStepsOfEachContactNotOfTheWholeRun) {
+  // Balls thrown sideways at 45 degrees (releases of a 64-ball ensemble) that settle onto the
+  // face, roll down to the rim and over it: integrated contacts on the face and on the rim. The
+  // least guard under which a run is unchanged is what its longest contact needs, below the
+  // run's total; a budget for the whole run would need them all.
+  Params p = params_with(45.0, 0.5, 0.1);
+  p.t_max = 10.0;
+  Ensemble3Options o;
+  o.samples = 64;
+  o.velocity_sd = 0.1;
+  const Cone c = make_cone(p);
+  int shared = 0;
+  for (const std::int64_t k : {23, 24, 36, 37}) {
+    const State3 release = ensemble_release_3d(p, c, o, k);
+    const auto run = [&](std::int64_t guard) {
+      Params q = p;
+      q.max_ode_steps = guard;
+      return simulate_3d(q, c, release);
+    };
+    const Trajectory3 t = run(default_max_ode_steps);
+    const std::int64_t contacts = t.contacts + t.edge_contacts;
+    ASSERT_FALSE(t.stalled) << "release " << k;
+    ASSERT_GE(contacts, 2) << "release " << k;
+    const auto unchanged = [&](std::int64_t guard) {
+      const Trajectory3 u = run(guard);
+      return !u.stalled && u.status == t.status && u.duration == t.duration && u.energy_loss == t.energy_loss &&
+             u.ode_steps == t.ode_steps;
+    };
+    // Bisect for the least guard that changes nothing: unchanged(hi), not unchanged(lo).
+    std::int64_t lo = 0;
+    std::int64_t hi = t.ode_steps + 1;
+    ASSERT_TRUE(unchanged(hi)) << "release " << k;
+    while (hi - lo > 1) {
+      const std::int64_t mid = lo + (hi - lo) / 2;
+      (unchanged(mid) ? hi : lo) = mid;
+    }
+    EXPECT_GE(hi * contacts, t.ode_steps) << "release " << k;
+    // Just below it, the longest contact is cut short and the run is flagged.
+    const Trajectory3 cut = run(lo);
+    EXPECT_TRUE(cut.stalled) << "release " << k;
+    EXPECT_EQ(cut.status, Status::Trapped) << "release " << k;
+    shared += hi < t.ode_steps;
+  }
+  EXPECT_GE(shared, 3);
+}
+
 TEST(Engine3d, ARimContactThatStartsAtTheOnsetOfSlidingNeverGainsEnergy) {
   // A ball rolls down a shallow cone into a ring 5% wider than itself and crosses the rim at speed:
   // on the rim the normal force falls (3.6 to 0.12 m g), rolling cannot be held, and the slip grows

@@ -121,6 +121,13 @@ inline constexpr std::string_view not_with_geometry = "not with a geometry file 
 /// theta-right, spout-length; command-line or output name): giving one with a file is bad input.
 bool set_by_geometry(std::string_view name);
 
+/// Why a parameter given with the funnel of `profile` would have no effect, as a ParamError
+/// range ("not with a geometry file ..."), or nothing if it has one: a V parameter
+/// (set_by_geometry), or a material parameter (e, mu, beta0) that every wall of the file sets
+/// for itself. Such a parameter given, or swept, is bad input: it would be recorded in the
+/// output (a sweep would label equal rows apart) as if it had been used.
+std::optional<std::string> unused_with_geometry(std::string_view name, const ProfileSpec& profile);
+
 /// Checks every field (NaN and infinities included); the first invalid one, if any.
 std::optional<ParamError> validate(const Params& params);
 

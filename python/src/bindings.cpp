@@ -144,9 +144,10 @@ Params make_params(const std::map<std::string, double>& model, const py::object&
   for (const auto& [key, value] : model) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
     if (info == nullptr || !info->option) throw py::type_error("unknown model parameter '" + key + "'");
-    if (p.profile && funnel::set_by_geometry(info->name)) {
-      throw py::value_error(funnel::ParamError{std::string(info->name), funnel::format_number(value),
-                                               std::string(funnel::not_with_geometry)}.message());
+    if (p.profile) {
+      if (const auto why = funnel::unused_with_geometry(info->name, *p.profile)) {
+        throw py::value_error(funnel::ParamError{std::string(info->name), funnel::format_number(value), *why}.message());
+      }
     }
     if (const auto err = funnel::set_parameter_checked(p, info->name, value)) throw py::value_error(err->message());
   }
@@ -397,9 +398,11 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
   std::vector<funnel::Axis> axes;
   for (const auto& [key, values] : axes_in) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
-    if (base.profile && info != nullptr && funnel::set_by_geometry(info->name) && !values.empty()) {
-      throw py::value_error(funnel::ParamError{std::string(info->name), funnel::format_number(values.front()),
-                                               std::string(funnel::not_with_geometry)}.message());
+    if (base.profile && info != nullptr && !values.empty()) {
+      if (const auto why = funnel::unused_with_geometry(info->name, *base.profile)) {
+        throw py::value_error(
+            funnel::ParamError{std::string(info->name), funnel::format_number(values.front()), *why}.message());
+      }
     }
   }
   for (const std::string& name : funnel::sweep_parameter_names()) {

@@ -67,6 +67,20 @@ def test_sweeps_take_a_geometry_and_the_shortcuts():
     assert np.all(t["theta_left"] == 40.0)
 
 
+def test_a_material_every_wall_sets_for_itself_is_refused():
+    # Both walls of lined.toml set mu: mu=... would change nothing, and a sweep over it would
+    # label equal rows apart. Its left wall leaves e to the parameter, which goes with the file.
+    with pytest.raises(ValueError, match=r"invalid mu = 0\.5: valid range is not with a geometry "
+                                         r"file whose walls all set their own mu .*left 0\.1, right 1\.2"):
+        funnel.simulate(release=0.3, geometry=LINED, mu=0.5)
+    with pytest.raises(ValueError, match="whose walls all set their own mu"):
+        funnel.ensemble(samples=20, geometry=LINED, mu=0.5)
+    with pytest.raises(ValueError, match="whose walls all set their own mu"):
+        funnel.sweep(mu=[0, 1], samples=20, geometry=LINED)
+    s = funnel.sweep(e=[0.5, 0.9], samples=200, geometry=LINED)
+    assert s["duration_mean"][0] != s["duration_mean"][1]
+
+
 def test_bad_geometries_name_the_key_and_the_rule(tmp_path):
     with pytest.raises(ValueError, match="geometry left segment 0-1"):
         funnel.simulate(release=0.0, geometry={"mirror": True,
