@@ -30,8 +30,10 @@ double parse_single(const std::string& name, const std::string& text) {
 
 void set_or_throw(Params& p, const std::string& name, double value, const std::string& text) {
   if (!set_parameter(p, name, value)) {
-    throw UsageError("invalid " + name + " = '" + text + "': not an integer; valid range is " +
-                     std::string(valid_range(name)));
+    // The table's integers are held as int64: a whole number beyond 9e18 is out of range.
+    const bool whole = value == std::floor(value);
+    throw UsageError("invalid " + name + " = '" + text + "': " + (whole ? "out of range" : "not an integer") +
+                     "; valid range is " + std::string(valid_range(name)));
   }
 }
 
@@ -148,12 +150,18 @@ void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std:
   const double points = grid_points(axes);
   if (points <= max_points) return;
   const std::string dims = grid_dims(axes);
-  char count[32];
-  std::snprintf(count, sizeof count, "%.3g", points);
-  char cap[32];
-  std::snprintf(cap, sizeof cap, "%.0e", max_points);
-  throw UsageError("invalid grid = " + dims + ": " + count + " points; valid range is at most " + cap + " points (" + why +
-                   "): use a coarser grid, or split it into several runs");
+  // Exact counts below 1e15 (rounded to 3 digits, 1000001 points read as "1e+06", within the cap).
+  const auto text = [](double n) {
+    char buf[32];
+    if (n < 1e15) {
+      std::snprintf(buf, sizeof buf, "%.0f", n);
+    } else {
+      std::snprintf(buf, sizeof buf, "%.3g", n);
+    }
+    return std::string(buf);
+  };
+  throw UsageError("invalid grid = " + dims + ": " + text(points) + " points; valid range is at most " + text(max_points) +
+                   " points (" + why + "): use a coarser grid, or split it into several runs");
 }
 
 void validate_all(const std::vector<Params>& points, Space space) {

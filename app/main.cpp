@@ -1,6 +1,7 @@
 // funnel: command-line entry point. Bad input exits with code 2 and writes no file; a failed write exits 1.
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <iostream>
 #include <string>
 
@@ -63,6 +64,10 @@ int run_command_line(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A reader that closes the pipe early (`funnel ... | head`) makes the next write fail with
+  // EPIPE, reported as an output error (exit code 1, docs/cli.md), instead of killing the process
+  // silently with SIGPIPE (exit status 141 in the shell).
+  std::signal(SIGPIPE, SIG_IGN);
   // Under mpirun only rank 0 runs the command; the others compute what it deals them and exit
   // with its exit code (docs/cluster.md).
   funnel::cli::MpiSession mpi(argc, argv);

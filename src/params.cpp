@@ -32,13 +32,13 @@ const std::array<ParameterInfo, 22> table{{
     {"mu", "Coulomb friction coefficient", "", "mu >= 0 (finite)", "1", false, true, FUNNEL_FIELD(mu)},
     {"beta0", "maximum tangential restitution (Walton)", "", "-1 <= beta0 <= 1", "0", false, true,
      FUNNEL_FIELD(beta0)},
-    {"radius", "particle radius a", "H", "0 < radius < 1", "0.01", false, true, FUNNEL_FIELD(radius)},
+    {"radius", "particle radius a", "H", "1e-100 <= radius < 1", "0.01", false, true, FUNNEL_FIELD(radius)},
     {"gap", "gap between the walls' lower edges (0 = closed funnel)", "H",
      "gap = 0 (closed funnel) or gap > 2*radius (finite)", "0.04", false, true, FUNNEL_FIELD(gap)},
     {"inertia", "kappa = I/(m a^2): 0.4 solid sphere, 2/3 hollow sphere, 0.5 disk", "", "inertia > 0 (finite)",
      "0.4", false, true, FUNNEL_FIELD(inertia)},
     {"t-max", "time cap", "sqrt(H/g)", "t-max > 0 (finite)", "1e5", false, true, FUNNEL_FIELD(t_max)},
-    {"max-collisions", "collision cap per trajectory", "", "max-collisions >= 1 (an integer)", "1e8", true, true,
+    {"max-collisions", "collision cap per trajectory", "", "1 <= max-collisions < 9e18 (an integer)", "1e8", true, true,
      FUNNEL_FIELD(max_collisions)},
     {"release-height", "height H0 of the release line above the funnel bottom", "H",
      "release-height > 0 (finite), with the release line above the faces' lower ends and the vertex", "1",
@@ -68,7 +68,7 @@ const std::array<ParameterInfo, 22> table{{
     {"release-spin-y", "3D: initial spin about the vertical axis", "sqrt(g/H)",
      "finite, |release-spin-y| <= 1e8; 0 in 2d", "0", false, true, FUNNEL_FIELD(release_spin_y)},
     {"max-ode-steps", "3D: integrator steps allowed in one sustained contact; a contact that needs more ends the run "
-     "as trapped, flagged stalled", "", "max-ode-steps >= 1 (an integer); 2e7 in 2d", "2e7", true, true,
+     "as trapped, flagged stalled", "", "1 <= max-ode-steps < 9e18 (an integer); 2e7 in 2d", "2e7", true, true,
      FUNNEL_FIELD(max_ode_steps)},
 }};
 
@@ -185,7 +185,7 @@ std::optional<ParamError> validate(const Params& params) {
   if (!(params.e >= 0.0 && params.e <= 1.0)) return error("e", params.e);
   if (!(params.mu >= 0.0 && std::isfinite(params.mu))) return error("mu", params.mu);
   if (!(params.beta0 >= -1.0 && params.beta0 <= 1.0)) return error("beta0", params.beta0);
-  if (!(params.radius > 0.0 && params.radius < 1.0)) return error("radius", params.radius);
+  if (!(params.radius >= min_radius && params.radius < 1.0)) return error("radius", params.radius);
   // With a geometry file the V's gap is unused (the file's outlet is checked by validate_profile):
   // its default must not limit the radius.
   if (!params.profile && !(params.gap == 0.0 || (params.gap > 2.0 * params.radius && std::isfinite(params.gap)))) {
@@ -263,7 +263,7 @@ std::optional<ParamError> validate(const Params& params) {
       ParamError err = blame_radius   ? error("radius", params.radius)
                        : blame_height ? error("release-height", params.release_height)
                                       : error(name, theta);
-      err.range = std::string(blame_radius   ? "0 < radius < 1"
+      err.range = std::string(blame_radius   ? "1e-100 <= radius < 1"
                               : blame_height ? "release-height > 0"
                                              : "0 < " + std::string(name) + " < 90 (degrees)") +
                   " with the release line above the funnel's vertex: release-height + (gap/2) tan(theta) - "
@@ -343,7 +343,7 @@ std::optional<ParamError> validate_orbit(const Params& params) {
   if (!(params.theta > 0.0 && params.theta < 90.0)) return error("theta", params.theta);
   if (!(params.beta0 >= -1.0 && params.beta0 <= 1.0)) return error("beta0", params.beta0);
   if (!(params.inertia > 0.0 && std::isfinite(params.inertia))) return error("inertia", params.inertia);
-  if (!(params.radius > 0.0 && params.radius < 1.0)) return error("radius", params.radius);
+  if (!(params.radius >= min_radius && params.radius < 1.0)) return error("radius", params.radius);
   return std::nullopt;
 }
 

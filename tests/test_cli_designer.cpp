@@ -109,6 +109,10 @@ TEST_F(Cli, ReleaseAndEnsembleOptionsAreValidated) {
   expect_rejected(run("ensemble --velocity-sd -0.1" + out), "velocity-sd", "-0.1");
   expect_rejected(run("ensemble --seed -4" + out), "seed", "-4");
   expect_rejected(run("ensemble --wear-bins 2000000" + out), "wear-bins", "2000000");
+  // A whole number beyond the int64 cap is out of range, not "not an integer"; the range says so.
+  expect_rejected(run("trajectory --release 0 --max-collisions 9223372036854775807" + out), "max-collisions",
+                  "'9223372036854775807': out of range; valid range is 1 <= max-collisions < 9e18 (an integer)");
+  expect_rejected(run("trajectory --release 0 --max-collisions 1.5" + out), "max-collisions", "'1.5': not an integer");
   EXPECT_EQ(file_count(), 0u);
 }
 

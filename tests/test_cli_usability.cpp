@@ -132,6 +132,16 @@ TEST_F(Cli, OutToADeviceWritesThroughAndReportsAFullDevice) {
   EXPECT_EQ(file_count(), 2u);
 }
 
+TEST_F(Cli, AReaderThatClosesThePipeEarlyIsAnOutputErrorNotASilentSignal) {
+  // `funnel ... | head -c 10`: the next write fails; exit code 1 with a message (docs/cli.md), not
+  // death by SIGPIPE (status 141 in the shell) with nothing said.
+  const std::string cmd = "( " + std::string(FUNNEL_BINARY) + " ensemble --samples 20000 --per-sample --format csv 2> " +
+                          path("err.txt") + "; echo $? > " + path("rc.txt") + " ) | head -c 10 > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_EQ(read("rc.txt"), "1\n");
+  EXPECT_NE(read("err.txt").find("cannot write to standard output: Broken pipe"), std::string::npos) << read("err.txt");
+}
+
 TEST_F(Cli, MisspeltSubcommandsAndOptionsGetTheNearestNameAndTheirHelp) {
   const Result sub = run("trajectroy --release 0.3");
   EXPECT_EQ(sub.code, 2);
@@ -243,14 +253,18 @@ TEST_F(Cli, HugeSweepsNeedYes) {
   EXPECT_EQ(yes.output.find("--yes"), std::string::npos) << yes.output;
   // Not past memory: 8.8e9 points ended in bad_alloc (exit 1), as did an orbit grid of 1.8e8.
   const Result absurd = run("sweep --samples 1 --theta 1:89:0.0001 --mu 0:1:0.0001 --yes" + out);
-  expect_rejected(absurd, "grid", "theta 880001 x mu 10001: 8.8e+09 points");
-  EXPECT_NE(absurd.output.find("at most 2e+06 points"), std::string::npos) << absurd.output;
+  expect_rejected(absurd, "grid", "theta 880001 x mu 10001: 8800890001 points");
+  EXPECT_NE(absurd.output.find("at most 2000000 points"), std::string::npos) << absurd.output;
   // The cap comes first: --yes would not help, so it is not suggested.
   const Result capped = run("sweep --samples 1 --theta 1:89:0.001 --mu 0:0.3:0.01" + out);
-  expect_rejected(capped, "grid", "at most 2e+06 points");
+  expect_rejected(capped, "grid", "at most 2000000 points");
   EXPECT_EQ(capped.output.find("--yes to run it"), std::string::npos) << capped.output;
   const Result orbit = run("orbit --theta 1:89:0.0001 --beta0 -1:1:0.01 --out " + path("o.json"));
-  expect_rejected(orbit, "grid", "theta 880001 x beta0 201: 1.77e+08 points");
+  expect_rejected(orbit, "grid", "theta 880001 x beta0 201: 176880201 points");
+  // Exact counts: one point over the cap reads as over it (rounded, "1e+06 points; valid range is
+  // at most 1e+06 points").
+  const Result over = run("orbit --theta 40:50:1e-5 --out " + path("o.json"));
+  expect_rejected(over, "grid", "theta 1000001: 1000001 points; valid range is at most 1000000 points");
   EXPECT_EQ(file_count(), 0u);
 }
 

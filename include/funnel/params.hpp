@@ -19,6 +19,12 @@ struct ProfileSpec;
 /// radial period (and the stick-slip of docs/robustness.md, finding 22).
 inline constexpr std::int64_t default_max_ode_steps = 20'000'000;
 
+/// The least radius: far below any physical size, and far above the radii at which the squares in
+/// the spin's energy underflow (a^2 = 0 below about 1.5e-154 H: the 3D energies were NaN) or the
+/// 2D edge geometry loses its last bits (subnormal radii below about 5e-309 H left trajectories
+/// trapped with NaN impulse and energy).
+inline constexpr double min_radius = 1e-100;
+
 /// Physical and numerical parameters of one funnel run. Units: H = g = m = 1.
 struct Params {
   double theta = 60.0;        ///< wall angle to the horizontal, degrees, 0 < theta < 90

@@ -8,7 +8,8 @@ A Python front end to the C++ library, like the ``funnel`` command line:
 - :func:`geometry` — the funnel's derived geometry, for plotting;
 - :func:`orbit` — eigenvalues and stability of the period-2 orbit (``funnel orbit``);
 - :func:`closed` — periodic orbit or rest in a closed funnel (``funnel closed``);
-- :func:`retrace` — self-retracing orbits of the elastic frictionless particle (``funnel retrace``).
+- :func:`retrace` — self-retracing orbits of the elastic frictionless particle (``funnel retrace``);
+- :func:`paper_figure` — one figure of the paper, its data and its check (``funnel paper``).
 
 Model parameters are keyword arguments named like the command-line options with '-' turned
 into '_': theta [deg], e, mu, beta0, radius, gap, inertia, t_max, max_collisions,
@@ -79,6 +80,7 @@ __all__ = [
     "geometry",
     "git_commit",
     "orbit",
+    "paper_figure",
     "retrace",
     "simd_path",
     "simd_paths",

@@ -73,10 +73,11 @@ class _Ball:
 
 
 def build_animation(result, geometry, times):
-    """(Figure, update function) drawing the trajectory at `times`; update(i) draws frame i."""
+    """(Figure, update function) drawing the trajectory at `times`; update(i) draws frame i.
+    geometry: funnel.geometry(...) with "release" added (see funnel.trajectory.release_geometry)."""
     from matplotlib.figure import Figure
+    g = tr.release_geometry(result, geometry)
     events = result["events"]
-    g = dict(geometry)
     x, y, phi = motion.state_at(g, events, times)
     px, py, pt = motion.trajectory_path(g, events)
     fig = Figure(figsize=(7.2, 3.9), dpi=100)
@@ -103,6 +104,7 @@ def build_animation(result, geometry, times):
     big = _Ball(ax, max(radius, 0.012 * w))
     small = _Ball(close, radius)
     title = ax.set_title("", loc="left", fontsize=8)
+    label = rf"{tr.funnel_label(result, g)}, $x_0/L$ = {float(g['release']):g}"
 
     def update(i):
         t = times[i]
@@ -115,8 +117,7 @@ def build_animation(result, geometry, times):
             line.set_data(np.append(px[recent], x[i]), np.append(py[recent], y[i]))
         close.set_xlim(x[i] - CLOSE_UP * radius, x[i] + CLOSE_UP * radius)
         close.set_ylim(y[i] - CLOSE_UP * radius, y[i] + CLOSE_UP * radius)
-        title.set_text(rf"$\theta$ = {g['theta']:g}°, $x_0/L$ = {float(g['release']):g}:  $t$ = {t:8.3f} "
-                       rf"$\sqrt{{H/g}}$")
+        title.set_text(rf"{label}:  $t$ = {t:8.3f} $\sqrt{{H/g}}$")
         return (trail, recent_main, trail_close, title, *big.move(x[i], y[i], phi[i]), *small.move(x[i], y[i], phi[i]))
 
     return fig, update
@@ -147,6 +148,7 @@ def animate(result, geometry, out, t_start=0.0, t_end=None, speed=None, fps=20, 
     import matplotlib
     from matplotlib import animation
     from .plot import STYLE
+    geometry = tr.release_geometry(result, geometry)  # the release state, and a clear error for a bad result
     events = result["events"]
     last = float(events["time"][-1]) if len(events["time"]) else 0.0
     t_end = last if t_end is None else min(float(t_end), last)

@@ -10,11 +10,18 @@ chosen by the kind of the event that starts the segment:
   the wall's edge point, E_left = (-d/2, y_b) or E_right = (d/2, y_b);
 - otherwise: free flight, the parabola of the velocity after the event under gravity (0, -1).
 
+The first segment starts at the release: the state ``x0``, ``y0``, ``u0``, ``v0``, ``omega0``
+of the geometry dict when it has them (a simulate() result's own, which
+:func:`funnel.trajectory.simulate_for_plot` copies into it), else at rest on the release line
+(see :func:`release_state`).
+
 Units: lengths in H, times in sqrt(H/g), spin in sqrt(g/H) (counter-clockwise positive). Only
-numpy is needed; no matplotlib.
+numpy is needed; no matplotlib. The model is the 2D one: a 3D run's events are refused.
 """
 
 from __future__ import annotations
+
+import operator
 
 import numpy as np
 
@@ -25,13 +32,71 @@ FLIGHT, FACE_CONTACT, EDGE_CONTACT = 0, 1, 2
 COLLISION_KINDS = ("face", "edge")
 
 
+#: Release-state keys a geometry dict may carry (named as in a simulate() result).
+RELEASE_STATE = ("x0", "y0", "u0", "v0", "omega0")
+
+#: Event columns that every log has; the others (wall, u_before, ...) default to zero.
+REQUIRED_COLUMNS = ("time", "kind", "x", "y")
+
+
 def _array(events, name, n):
     return np.asarray(events[name], dtype=np.float64) if name in events else np.zeros(n)
 
 
+def check_events(events, required=REQUIRED_COLUMNS):
+    """ValueError unless events is a 2D event log with the `required` columns (a 3D log, with z,
+    is refused: its motion leaves the plane that these pictures draw)."""
+    if not hasattr(events, "__getitem__") or not hasattr(events, "__contains__"):
+        raise ValueError(f"invalid events = {type(events).__name__}: valid events are a dict of 1-D arrays "
+                         "(funnel.simulate(..., events=True)['events'] or the rows of a Fig. 8 CSV)")
+    if "z" in events:
+        raise ValueError("invalid events: a 3D run's event log (it has z); valid events are those of a 2D run "
+                         "(funnel.simulate(..., space='2d', events=True)), the only motion funnel.motion draws")
+    missing = [name for name in required if name not in events]
+    if missing:
+        names = ", ".join(repr(m) for m in missing)
+        raise ValueError(f"invalid events: no column{'s' * (len(missing) > 1)} {names}; valid events have "
+                         f"{', '.join(required)} (funnel.simulate(..., events=True)['events'])")
+
+
+def release_state(geometry, events=None):
+    """(x, y, u, v, omega) of the centre at the release, where the first segment starts.
+
+    The geometry's own x0, y0, u0, v0, omega0 when it has x0 and y0 (a simulate() result's
+    release state: the point and the velocity and spin release_u, release_v, release_spin that
+    the engine started from); else at rest at x_release_mid + release * half_width on the release
+    line y_release, the point the engine computes (x_release_mid is 0 for the paper's V, and
+    not 0 for an asymmetric V or a geometry file); else at rest above the first event (a log
+    without its release point). ValueError when the geometry gives no release height."""
+    if "x0" in geometry and "y0" in geometry:
+        return tuple(float(geometry.get(key, 0.0)) for key in RELEASE_STATE)
+    if "y_release" not in geometry:
+        raise ValueError("invalid geometry: no release height; valid geometries have y_release "
+                         "(funnel.geometry(**model)) or the release state x0, y0 (as a simulate() result)")
+    if "release" in geometry and "half_width" in geometry:
+        x = float(geometry.get("x_release_mid", 0.0)) + float(geometry["release"]) * float(geometry["half_width"])
+    else:
+        x = float(events["x"][0]) if events is not None and len(events["x"]) else 0.0  # a vertical fall
+    return x, float(geometry["y_release"]), 0.0, 0.0, 0.0
+
+
+def _window_segments(window, n):
+    """The segments from event window[0] to event window[1]; ValueError for a window that does
+    not lie inside the log or is empty (a bad window gave an IndexError, or silently nothing)."""
+    try:
+        first, last = (operator.index(i) for i in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"invalid window = {window!r}: valid windows are two integer event indices "
+                         "(first, last)") from None
+    if not 0 <= first < last <= n - 1:
+        raise ValueError(f"invalid window = ({first}, {last}): valid range is 0 <= first < last <= {n - 1} "
+                         f"(event indices of this log of {n} events)")
+    return np.arange(first + 1, last + 1)
+
+
 class Segments:
-    """The n segments of a trajectory with n events: segment i runs from event i-1 (the release
-    at rest for i = 0) to event i.
+    """The n segments of a trajectory with n events: segment i runs from event i-1 (the release,
+    :func:`release_state`, for i = 0) to event i.
 
     Attributes (1-D numpy arrays of length n): ``t0``, ``t1`` (times), ``x0``, ``y0``,
     ``x1``, ``y1`` (centre at the start and the end), ``u0``, ``v0``, ``omega0`` (velocity and
@@ -41,22 +106,21 @@ class Segments:
     """
 
     def __init__(self, geometry, events):
+        check_events(events)
         time = _array(events, "time", 0)
         n = len(time)
         x, y = _array(events, "x", n), _array(events, "y", n)
         kind = np.asarray(events["kind"], dtype=str) if n else np.zeros(0, dtype=str)
-        if "release" in geometry and "half_width" in geometry:
-            x_release = float(geometry["release"]) * float(geometry["half_width"])
-        else:
-            x_release = float(x[0]) if n else 0.0  # the first flight is a vertical fall from rest
-        y_release = float(geometry["y_release"])
+        # The first flight starts from the engine's own release state (point, velocity, spin),
+        # so that it ends at the first event.
+        x_release, y_release, u_release, v_release, omega_release = release_state(geometry, events)
         shift = lambda a, first: np.concatenate([[first], a[:-1]]) if n else np.zeros(0)
         self.t0, self.t1 = shift(time, 0.0), time
         self.x0, self.y0 = shift(x, x_release), shift(y, y_release)
         self.x1, self.y1 = x, y
-        self.u0 = shift(_array(events, "u_after", n), 0.0)
-        self.v0 = shift(_array(events, "v_after", n), 0.0)
-        self.omega0 = shift(_array(events, "omega_after", n), 0.0)
+        self.u0 = shift(_array(events, "u_after", n), u_release)
+        self.v0 = shift(_array(events, "v_after", n), v_release)
+        self.omega0 = shift(_array(events, "omega_after", n), omega_release)
         self.u1 = _array(events, "u_before", n)
         self.v1 = _array(events, "v_before", n)
         self.omega1 = _array(events, "omega_before", n)
@@ -128,18 +192,21 @@ def _positions(seg, idx, tau, s, along_path):
 
 
 def trajectory_path(geometry, events, samples_per_arc=None, window=None):
-    """(x, y, t) of the particle centre's path, for drawing: from the release at rest, the
+    """(x, y, t) of the particle centre's path, for drawing: from the release, the
     parabola of each free flight up to the next event's time, a straight segment along the face
     during a sustained contact (contact_start to contact_end), an arc of radius a about the edge
     point during an edge contact (edge_contact_start to edge_contact_end). Each segment has
     `samples_per_arc` points, its last one at the event ending it.
 
-    geometry: dict with y_release and, for the release point, release and half_width (else the
-    first event's x), and for edge contacts half_gap and y_bottom (as funnel.geometry()).
+    geometry: dict with the release state x0, y0 (u0, v0, omega0) of a simulate() result, or
+    y_release and, for the release point, release, half_width and x_release_mid (else the first
+    event's x; see release_state), and for edge contacts half_gap and y_bottom (as
+    funnel.geometry()).
     events: dict of 1-D arrays time, kind, x, y, u_after, v_after (and wall, u_before, ...).
-    window: (first, last) event indices to return only the path from event first to event last."""
+    window: (first, last) event indices, 0 <= first < last < len(events["time"]), to return only
+    the path from event first to event last; ValueError otherwise."""
     seg = Segments(geometry, events)
-    segments = np.arange(len(seg)) if window is None else np.arange(window[0] + 1, window[1] + 1)
+    segments = np.arange(len(seg)) if window is None else _window_segments(window, len(seg))
     n = len(segments)
     if n == 0:
         return np.zeros(0), np.zeros(0), np.zeros(0)
@@ -175,6 +242,7 @@ def state_at(geometry, events, t):
 
 def collision_points(events):
     """(x, y, time) of the collisions (face and edge events) of an event log."""
+    check_events(events)
     kind = np.asarray(events["kind"], dtype=str)
     m = np.isin(kind, COLLISION_KINDS)
     return (np.asarray(events["x"], dtype=float)[m], np.asarray(events["y"], dtype=float)[m],
@@ -184,6 +252,7 @@ def collision_points(events):
 def alternating_run(events):
     """(start, stop) event indices of the longest run of face collisions alternating between
     the walls (stop exclusive; other events inside the run break it), or None if shorter than 2."""
+    check_events(events, ("kind", "wall"))
     kind = np.asarray(events["kind"], dtype=str)
     wall = np.asarray(events["wall"], dtype=str)
     best, start, last = (0, 0), None, None

@@ -624,6 +624,13 @@ def figure_dirs(outdir):
                   if d.is_dir() and (d / f"{d.name}.json").is_file() and (d / f"{d.name}.csv").is_file())
 
 
+def no_figures(outdir):
+    """The ValueError for an outdir without figure directories (what funnel.plot and
+    funnel.report refuse: nothing to draw, and an empty page would replace the index)."""
+    return ValueError(f"invalid outdir = '{outdir}': no figure directories (figNN/ with figNN.json and figNN.csv) "
+                      "found in it; valid outdirs are those funnel paper writes")
+
+
 def _render_entry(figdir):
     meta, paths = render(figdir)
     return {"dir": Path(figdir).name, "meta": meta, "images": [p.name for p in paths]}, paths
@@ -634,9 +641,12 @@ def render_all(outdir, log=None, jobs=None):
 
     ``jobs`` figures are drawn at once in separate processes (default: the number of cores;
     1 draws them one after the other in this process). Each picture is the same either way.
+    ValueError when outdir holds no figure directory.
     """
     from . import report
     dirs = figure_dirs(outdir)
+    if not dirs:
+        raise no_figures(outdir)  # not "invalid jobs = 0" (one job per figure, at most)
     for figdir in dirs:
         load_meta(figdir)  # every record readable before any picture is drawn
     jobs = min(len(dirs), os.cpu_count() or 1) if jobs is None else int(jobs)

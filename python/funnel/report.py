@@ -196,15 +196,31 @@ single particle falling through a funnel</i>. Units: {units}. Claims confirmed b
 
 def main(argv=None):
     """Command line: ``python -m funnel.report OUTDIR`` (the page only, from existing images)."""
-    from .plot import figure_dirs
-    args = sys.argv[1:] if argv is None else argv
-    if len(args) != 1 or not Path(args[0]).is_dir():
-        print("usage: python -m funnel.report OUTDIR", file=sys.stderr)
+    from .plot import figure_dirs, no_figures
+    args = sys.argv[1:] if argv is None else list(argv)
+    usage = "usage: python -m funnel.report OUTDIR"
+    if args in (["-h"], ["--help"]):
+        print(f"{usage}\n\nRewrite OUTDIR/index.html from the figures' records and existing images "
+              "(python -m funnel.plot OUTDIR draws them first).")
+        return 0
+    # Say what is wrong, not only the usage line.
+    if len(args) != 1:
+        problem = f"expected one argument OUTDIR, got {len(args)}"
+    elif not Path(args[0]).is_dir():
+        what = "not a directory" if Path(args[0]).exists() else "no such directory"
+        problem = f"invalid outdir = '{args[0]}': {what}"
+    else:
+        problem = None
+    if problem:
+        print(f"{usage}\npython -m funnel.report: error: {problem}", file=sys.stderr)
         return 2
     from .plot import load_meta
     entries = []
     try:
-        for d in figure_dirs(args[0]):
+        dirs = figure_dirs(args[0])
+        if not dirs:
+            raise no_figures(args[0])
+        for d in dirs:
             entries.append({"dir": d.name, "meta": load_meta(d), "images": [f"{d.name}.png", f"{d.name}.svg"]})
         index = write_index(args[0], entries)
     except (ValueError, OSError) as err:

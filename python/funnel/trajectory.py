@@ -181,15 +181,59 @@ def legend_handles(ax, events):
     return handles
 
 
+def check_result(result):
+    """ValueError unless result is a 2D funnel.simulate(..., events=True) result (a 3D run's
+    motion leaves the plane these pictures draw; without events there is no path)."""
+    if not hasattr(result, "get"):
+        raise ValueError(f"invalid result = {type(result).__name__}: valid results are the dicts of "
+                         "funnel.simulate(..., events=True)")
+    if result.get("space", "2d") != "2d":
+        raise ValueError(f"invalid result: a run with space = {result['space']!r}; valid results are 2D runs, "
+                         "funnel.simulate(..., events=True) (the pictures and animations draw the plane funnel)")
+    if "events" not in result:
+        raise ValueError("invalid result: no 'events'; valid results come from funnel.simulate(..., events=True)")
+
+
+def release_geometry(result, geometry):
+    """geometry with the result's release added: "release" (x0/L) and the release state x0, y0,
+    u0, v0, omega0 from which funnel.motion starts the first flight (so that it ends at the first
+    event, whatever the release velocity, spin, wall angles or geometry file). ValueError for a
+    result that is not a 2D one with events, or when neither gives the release."""
+    check_result(result)
+    g = dict(geometry)
+    for key in ("release", *motion.RELEASE_STATE):
+        if key in result:
+            g[key] = result[key]
+    if "release" not in g:
+        raise ValueError("invalid geometry: no 'release' (x0/L), and none in the result; valid geometries are "
+                         'funnel.geometry(**model) with "release" added, as funnel.trajectory.simulate_for_plot '
+                         "gives")
+    return g
+
+
+def funnel_label(result, g):
+    """The funnel in a title: the V's angle (both wall angles of an asymmetric V) or, for walls
+    from a geometry file, the file's name (the V's angle theta does not apply to them)."""
+    source = str(g.get("source", "v"))
+    if source != "v":
+        return Path(source).name.replace("$", r"\$")
+    params = result.get("params") or {}
+    theta = float(params.get("theta", g["theta"]))
+    left, right = (float(params.get(key, theta)) for key in ("theta_left", "theta_right"))
+    if left == right:
+        return rf"$\theta$ = {left:g}°"
+    return rf"$\theta_\mathrm{{left}}$ = {left:g}°, $\theta_\mathrm{{right}}$ = {right:g}°"
+
+
 def plot_trajectory(result, geometry, title=None):
     """A matplotlib Figure of one simulated trajectory (result of funnel.simulate(...,
-    events=True); geometry of funnel.geometry(...) with "release" added), with a zoom panel
-    below when the particle settles into bouncing between the walls."""
+    events=True); geometry of funnel.geometry(...) with "release" added, see release_geometry),
+    with a zoom panel below when the particle settles into bouncing between the walls."""
     from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
     from matplotlib.layout_engine import ConstrainedLayoutEngine
+    g = release_geometry(result, geometry)
     events = result["events"]
-    g = dict(geometry)
     window = zoom_window(events)
     w, _ = funnel_extent(g)
     y_lo, y_hi = funnel_ylim(g)
@@ -207,14 +251,14 @@ def plot_trajectory(result, geometry, title=None):
     t_end = float(events["time"][-1]) if len(events["time"]) else 1.0
     lines = draw_path(ax, g, events, Normalize(0.0, t_end), lw=0.35 if len(events["time"]) > 100 else 0.8,
                       point_size=2.5)
-    x0 = g.get("x_release_mid", 0.0) + float(g["release"]) * float(g["half_width"])
-    ax.plot(x0, g["y_release"], "o", ms=3.5, color=RELEASE_COLOR, zorder=5)
+    x0, y0, *_ = motion.release_state(g, events)
+    ax.plot(x0, y0, "o", ms=3.5, color=RELEASE_COLOR, zorder=5)
     ax.set_aspect("equal")
     ax.set_xlim(-w, w)
     ax.set_ylim(y_lo, y_hi)
     ax.set_xlabel(r"$x/H$")
     ax.set_ylabel(r"$y/H$")
-    ax.set_title(title or (rf"$\theta$ = {g['theta']:g}°, $x_0/L$ = {float(g['release']):g}: "
+    ax.set_title(title or (rf"{funnel_label(result, g)}, $x_0/L$ = {float(g['release']):g}: "
                            f"{result['status']} after {result['collisions']} collisions, "
                            rf"$t$ = {result['duration']:.4g} $\sqrt{{H/g}}$"), loc="left", fontsize=8)
     bar = fig.colorbar(lines, ax=ax, shrink=0.8, aspect=25, pad=0.02)
@@ -267,8 +311,8 @@ def plot_trajectories(meta, columns):
             bar = fig.colorbar(lines, ax=ax, shrink=0.7, aspect=25, pad=0.02)
             bar.set_label(r"$t$ [$\sqrt{H/g}$]")
             bar.outline.set_linewidth(0.5)
-            x0 = float(g["release"]) * float(g["half_width"]) if "release" in g else float(events["x"][0])
-            ax.plot(x0, g["y_release"], "o", ms=3, color=RELEASE_COLOR, zorder=4)
+            x0, y0, *_ = motion.release_state(g, events)
+            ax.plot(x0, y0, "o", ms=3, color=RELEASE_COLOR, zorder=4)
         ax.set_aspect("equal")
         ax.set_anchor("E")  # next to its colour bar; any spare width goes to the left
         ax.set_xlim(-w, w)
@@ -288,11 +332,14 @@ def plot_trajectories(meta, columns):
 
 def simulate_for_plot(release, **model):
     """(result, geometry) of funnel.simulate(release, events=True, **model), the geometry with
-    the release x0/L added (what plot_trajectory and funnel.animate take)."""
+    the release x0/L and the result's release state x0, y0, u0, v0, omega0 added (what
+    plot_trajectory, funnel.animate and funnel.motion take: the first flight starts where and
+    as the engine's did)."""
     import funnel
     result = funnel.simulate(release=release, events=True, **model)
     shape = model.pop("geometry", None)
     geometry = dict(funnel.geometry(geometry=shape, **model), release=float(release))
+    geometry.update({key: result[key] for key in motion.RELEASE_STATE})
     return result, geometry
 
 
@@ -302,8 +349,10 @@ def add_model_arguments(parser):
     parser.add_argument("--release", type=float, required=True, help="release position x0/L, -1 < x0/L < 1")
     defaults = funnel.default_params()
     for name in funnel.MODEL_PARAMETERS:
+        # An unset wall angle is theta's (default_params shows theta's default value there).
+        default = "default: theta" if name in ("theta_left", "theta_right") else f"default {defaults[name]:g}"
         parser.add_argument(f"--{name.replace('_', '-')}", dest=name, type=float, default=None,
-                            help=f"{funnel.valid_range(name)} (default {defaults[name]:g})")
+                            help=f"{funnel.valid_range(name)} ({default})")
     parser.add_argument("--geometry", default=None,
                         help="the funnel's walls from a geometry TOML file (docs/cli.md, 'Geometry files')")
 

@@ -2,12 +2,13 @@
 physics of each phase (parabolas, motion along a face, arcs about an edge, spin)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import funnel
-from funnel import motion
+from funnel import motion, trajectory
 
 
 def _run(release, **model):
@@ -114,3 +115,53 @@ def test_alternating_run():
     walls = np.array(["none", "left", "left", "right", "left", "right", "left", "right"])
     assert motion.alternating_run({"kind": kinds, "wall": walls}) == (2, 5)
     assert motion.alternating_run({"kind": kinds[:2], "wall": walls[:2]}) is None
+
+
+LINED = Path(__file__).resolve().parents[2] / "examples" / "geometry" / "lined.toml"
+
+
+@pytest.mark.parametrize("model", [
+    {"theta_left": 50.0},  # an asymmetric V: the release line's middle is not x = 0
+    {"geometry": str(LINED)},
+    {"release_u": 0.5, "release_v": 0.3},
+    {"release_u": -0.2, "release_spin": 3.0},
+], ids=["asymmetric", "geometry-file", "velocity", "spin"])
+def test_the_first_flight_starts_from_the_engines_release_state(model):
+    # The first flight was drawn from release * half_width at rest: off the release point of an
+    # asymmetric V or a geometry file, and a fall from rest whatever the release velocity and spin,
+    # so that it did not reach the first collision.
+    r, g = trajectory.simulate_for_plot(0.3, **model)
+    ev = r["events"]
+    x, y, phi = motion.state_at(g, ev, [0.0, ev["time"][0]])
+    assert (x[0], y[0], phi[0]) == (r["x0"], r["y0"], 0.0)
+    assert (x[1], y[1]) == pytest.approx((ev["x"][0], ev["y"][0]), abs=1e-12)
+    assert phi[1] == pytest.approx(r["omega0"] * ev["time"][0], rel=1e-14, abs=1e-300)
+    px, py, _ = motion.trajectory_path(g, ev, samples_per_arc=9)
+    assert (px[0], py[0]) == (r["x0"], r["y0"])
+    assert (px[8], py[8]) == pytest.approx((ev["x"][0], ev["y"][0]), abs=1e-12)
+    # Without the result's state, a release at rest is still on the engine's release line.
+    if not any(k.startswith("release_") for k in model):
+        rest = {k: v for k, v in g.items() if k not in motion.RELEASE_STATE}
+        assert motion.release_state(rest, ev) == pytest.approx((r["x0"], r["y0"], 0.0, 0.0, 0.0), abs=1e-15)
+
+
+def test_bad_windows_events_and_geometries_are_value_errors():
+    # An IndexError, a KeyError, or a window silently empty or reaching before the first event.
+    r, g = _run(0.3, theta=60.0)
+    ev, n = r["events"], len(r["events"]["time"])
+    for window in ((0, 10**6), (20, 10), (-1, 5), (3, 3), (0, n)):
+        with pytest.raises(ValueError, match=rf"^invalid window = \({window[0]}, {window[1]}\): valid range is "
+                                             rf"0 <= first < last <= {n - 1}"):
+            motion.trajectory_path(g, ev, window=window)
+    with pytest.raises(ValueError, match=r"^invalid window = \(1\.5, 3\): valid windows are two integer"):
+        motion.trajectory_path(g, ev, window=(1.5, 3))
+    assert len(motion.trajectory_path(g, ev, samples_per_arc=3, window=(0, n - 1))[0]) == 3 * (n - 1)
+    ev3 = funnel.simulate(release=0.3, events=True, space="3d")["events"]
+    for tool in (lambda: motion.state_at(g, ev3, [0.0]), lambda: motion.trajectory_path(g, ev3),
+                 lambda: motion.alternating_run(ev3), lambda: motion.collision_points(ev3)):
+        with pytest.raises(ValueError, match="^invalid events: a 3D run's event log"):
+            tool()
+    with pytest.raises(ValueError, match="^invalid events: no columns 'x', 'y'; valid events have time, kind, x, y"):
+        motion.state_at(g, {"time": [1.0], "kind": ["face"]}, [0.0])
+    with pytest.raises(ValueError, match="^invalid geometry: no release height"):
+        motion.state_at({"release": 0.3}, ev, [0.0])

@@ -43,3 +43,13 @@ def test_a_definition_path_and_bad_figures(tmp_path):
         funnel.paper_figure(bad)
     with pytest.raises(ValueError, match="invalid threads = -1"):
         funnel.paper_figure("fig01", threads=-1)
+
+
+def test_paper_figure_is_exported_like_every_public_function():
+    # It was importable as funnel.paper_figure but missing from __all__ (so from "from funnel
+    # import *") and from the package's list of functions.
+    import types
+    public = {name for name, value in vars(funnel).items()
+              if not name.startswith("_") and not isinstance(value, types.ModuleType)}
+    assert public == set(funnel.__all__)
+    assert ":func:`paper_figure`" in funnel.__doc__

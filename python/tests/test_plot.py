@@ -2,6 +2,7 @@
 
 import html
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -356,3 +357,32 @@ def test_bad_figure_data_is_one_line_and_exit_status_2(tmp_path, capsys):
     (tmp_path / "b.json").write_text("[1, 2]")
     assert plot.main(["bench", str(tmp_path / "b.json"), "--out", str(tmp_path / "b.png")]) == 2
     assert "not the JSON of funnel bench" in capsys.readouterr().err
+
+
+def test_an_outdir_without_figures_and_a_missing_one_say_what_is_wrong(tmp_path, capsys):
+    # funnel.plot said "invalid jobs = 0: valid range is an integer >= 1", funnel.report printed
+    # only its usage line.
+    from funnel import report
+    (tmp_path / "fig01").mkdir()
+    (tmp_path / "fig01" / "fig01.json").write_text("{}")  # no CSV: not a figure directory
+    expected = (f"invalid outdir = '{tmp_path}': no figure directories (figNN/ with figNN.json and figNN.csv) "
+                "found in it")
+    for jobs in (None, 1, 2):
+        with pytest.raises(ValueError, match="^" + re.escape(expected)):
+            plot.render_all(tmp_path, jobs=jobs)
+    assert plot.main([str(tmp_path)]) == 2
+    assert capsys.readouterr().err.startswith(f"python -m funnel.plot: error: {expected}")
+    assert report.main([str(tmp_path)]) == 2
+    assert capsys.readouterr().err.startswith(f"python -m funnel.report: error: {expected}")
+    assert not (tmp_path / "index.html").exists()
+    missing = tmp_path / "missing"
+    assert report.main([str(missing)]) == 2
+    assert f"python -m funnel.report: error: invalid outdir = '{missing}': no such directory" in capsys.readouterr().err
+    (tmp_path / "file").write_text("")
+    assert report.main([str(tmp_path / "file")]) == 2
+    assert "file': not a directory" in capsys.readouterr().err
+    assert report.main([]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: python -m funnel.report OUTDIR") and "expected one argument OUTDIR, got 0" in err
+    assert report.main(["--help"]) == 0
+    assert capsys.readouterr().out.startswith("usage: python -m funnel.report OUTDIR")

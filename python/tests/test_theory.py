@@ -36,7 +36,7 @@ def test_orbit_rejects_bad_input():
         funnel.orbit(95.0)
     with pytest.raises(ValueError, match="y-star"):
         funnel.orbit(60.0, y_star=-1.0)
-    with pytest.raises(ValueError, match="invalid radius = 1: valid range is 0 < radius < 1"):
+    with pytest.raises(ValueError, match="invalid radius = 1: valid range is 1e-100 <= radius < 1"):
         funnel.orbit(60.0, radius=1.0)
     # The funnel's gap plays no part in the orbit: a radius above half the default gap is fine.
     assert funnel.orbit(60.0, radius=0.02)["stable"].all()

@@ -3,6 +3,7 @@ zoom panel of Fig. 8 built from a real simulation."""
 
 import math
 import shutil
+from pathlib import Path
 
 import matplotlib
 import numpy as np
@@ -198,3 +199,78 @@ def test_a_failed_save_removes_its_temporary(tmp_path):
     with pytest.raises(ValueError, match="is a directory"):
         with replacing(tmp_path):
             pass
+
+
+LINED = str(Path(__file__).resolve().parents[2] / "examples" / "geometry" / "lined.toml")
+
+
+def _release_dot(ax):
+    (dot,) = [line for line in ax.get_lines() if line.get_marker() == "o" and len(line.get_xdata()) == 1
+              and line.get_color() == trajectory.RELEASE_COLOR]
+    return dot.get_xdata()[0], dot.get_ydata()[0]
+
+
+@pytest.mark.parametrize("model,label", [
+    ({"theta_left": 50.0}, r"$\theta_\mathrm{left}$ = 50°, $\theta_\mathrm{right}$ = 60°, $x_0/L$ = 0.3"),
+    ({"geometry": LINED}, "lined.toml, $x_0/L$ = 0.3"),
+    ({"theta": 45.0, "release_u": 0.5, "release_v": 0.3, "release_spin": 2.0}, r"$\theta$ = 45°, $x_0/L$ = 0.3"),
+], ids=["asymmetric", "geometry-file", "velocity"])
+def test_pictures_and_animations_start_at_the_release_and_name_the_funnel(model, label):
+    # The release was drawn at release * half_width (off the release point of an asymmetric V
+    # or a geometry file), the first flight as a fall from rest, and the title gave the V's
+    # theta = 60° for a geometry file, one angle for an asymmetric V.
+    result, geometry = trajectory.simulate_for_plot(0.3, **model)
+    ev = result["events"]
+    with matplotlib.rc_context(plot.STYLE):
+        fig = trajectory.plot_trajectory(result, geometry)
+    ax = fig.axes[0]
+    assert _release_dot(ax) == (result["x0"], result["y0"])
+    assert ax.get_title(loc="left").startswith(label + ":")
+    # The drawn path is continuous: its first flight runs from the release to the first event.
+    arcs = [c for c in ax.collections if c.get_array() is not None and len(c.get_paths()) == len(ev["time"])]
+    first = arcs[0].get_paths()[0].vertices
+    assert tuple(first[0]) == (result["x0"], result["y0"])
+    assert tuple(first[-1]) == pytest.approx((ev["x"][0], ev["y"][0]), abs=1e-12)
+    times = np.array([0.0, ev["time"][0]])
+    fig, update = animate.build_animation(result, geometry, times)
+    artists = update(1)
+    center = [a for a in artists if hasattr(a, "center")][0].center
+    assert center == pytest.approx((ev["x"][0], ev["y"][0]), abs=1e-12)
+    assert fig.axes[0].get_title(loc="left").startswith(label + ":")
+    # Given funnel.geometry(...) and "release" only, the result's own release state is used.
+    bare = {key: value for key, value in geometry.items() if key not in motion.RELEASE_STATE}
+    with matplotlib.rc_context(plot.STYLE):
+        assert _release_dot(trajectory.plot_trajectory(result, bare).axes[0]) == (result["x0"], result["y0"])
+
+
+def test_bad_results_and_geometries_are_value_errors(tmp_path):
+    # KeyErrors ('wall', 'events', 'release'), or a 3D run drawn as if it were a plane one.
+    result, geometry = trajectory.simulate_for_plot(0.3, theta=40.0)
+    g = dict(funnel.geometry(theta=40.0))
+    run3 = funnel.simulate(release=0.3, events=True, space="3d")
+    cases = [(run3, geometry, r"^invalid result: a run with space = '3d'; valid results are 2D runs"),
+             (funnel.simulate(release=0.3, theta=40.0), geometry, r"^invalid result: no 'events'; valid results "
+                                                                  r"come from funnel.simulate\(..., events=True\)"),
+             ({k: v for k, v in result.items() if k != "release"}, g,
+              r"^invalid geometry: no 'release' \(x0/L\), and none in the result")]
+    for bad, geo, message in cases:
+        for tool in (lambda: trajectory.plot_trajectory(bad, geo),
+                     lambda: animate.build_animation(bad, geo, np.array([0.0, 1.0])),
+                     lambda: animate.animate(bad, geo, tmp_path / "x.gif")):
+            with pytest.raises(ValueError, match=message):
+                tool()
+    assert not list(tmp_path.iterdir())
+    # A geometry without "release" is enough when the result has its own.
+    with matplotlib.rc_context(plot.STYLE):
+        fig = trajectory.plot_trajectory(result, g)
+    assert "$x_0/L$ = 0.3:" in fig.axes[0].get_title(loc="left")
+
+
+@pytest.mark.parametrize("main", [trajectory.main, animate.main])
+def test_help_gives_the_wall_angles_default_as_theta(main, capsys):
+    # It said "(default 60)": theta's default, not theta's value.
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for side in ("left", "right"):
+        assert f"--theta-{side} THETA_{side.upper()} 0 < theta-{side} < 90 (degrees) (default: theta)" in text
