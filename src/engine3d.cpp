@@ -213,6 +213,14 @@ class Run3 {
     // Hand-overs go on while time advances (a slowly dissipating orbit about the throat may cross
     // C* many times); many in a row without any time passing are a Zeno loop.
     for (int idle = 0; idle < max_hand_overs;) {
+      // A cancelled run (Ctrl-C) stops here too: contacts shorter than the integrator's check
+      // interval (1024 steps) never look at the flag, and a ball orbiting across C* hands over
+      // between the face and the rim thousands of times (a Python ensemble at 46 degrees went on
+      // for a minute after Ctrl-C). Its results are discarded.
+      if (opt_.cancel != nullptr && opt_.cancel->load(std::memory_order_relaxed)) {
+        end(Status::Trapped, time_);
+        return {};
+      }
       const double before_phase = time_;
       const Contact3End how = contact_phase(on_rim, entry);
       idle = time_ > before_phase ? 0 : idle + 1;

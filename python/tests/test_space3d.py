@@ -121,6 +121,26 @@ def test_ctrl_c_interrupts_a_3d_ensemble_whose_tasks_take_long():
     assert time.monotonic() - start < 6
 
 
+def test_ctrl_c_interrupts_balls_that_hand_over_between_the_face_and_the_rim():
+    # At 46 degrees balls thrown gently sideways orbit across C*, handing over between the face
+    # and the rim thousands of times in contacts too short to look at the flag themselves: the
+    # hand-overs look at it (Ctrl-C was raised a minute late; the whole run takes minutes).
+    import os
+    import signal
+    import threading
+    import time
+
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            funnel.ensemble(samples=20000, space="3d", theta=46, velocity_sd=0.03, threads=2)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 6
+
+
 #: A ball hovering at the limit of rolling on an 86-degree cone (docs/robustness.md, finding 22):
 #: with the default guard its contact takes 2e7 integrator steps, about 20 s.
 STEEP_STICK_SLIP = dict(theta=86.01593143426537, e=0.14390672371155014, mu=0.8610508103691801,
