@@ -139,6 +139,7 @@ void put_summaries_3d(py::dict& d, const funnel::Ensemble3Result& r) {
   d["periodic"] = r.periodic;
   d["stalled"] = r.stalled;
   d["total_collisions"] = r.total_collisions;
+  d["ode_steps"] = r.ode_steps;
 }
 
 py::dict simulate_3d(const std::map<std::string, double>& model, double release, bool events) {
@@ -195,8 +196,11 @@ py::dict ensemble_3d(const std::map<std::string, double>& model, std::int64_t sa
     s["w0"] = column<double>(n, [&](std::size_t i) { return ps[i].velocity.z; });
     s["status"] = text_column(n, [&](std::size_t i) { return funnel::to_string(ps[i].trajectory.status); });
     for (const funnel::ObservableInfo& o3 : funnel::observables_3d()) {
+      const auto get = [&](std::size_t i) { return funnel::value(ps[i].trajectory, o3.id); };
+      // Counts as int64, as in 2D and the CLI's JSON.
       s[py::str(std::string(o3.name))] =
-          column<double>(n, [&](std::size_t i) { return funnel::value(ps[i].trajectory, o3.id); });
+          o3.count ? py::object(column<std::int64_t>(n, [&](std::size_t i) { return static_cast<std::int64_t>(get(i)); }))
+                   : py::object(column<double>(n, get));
     }
     s["periodic"] = column<bool>(n, [&](std::size_t i) { return ps[i].trajectory.periodic; });
     s["stalled"] = column<bool>(n, [&](std::size_t i) { return ps[i].trajectory.stalled; });

@@ -45,6 +45,11 @@ def test_ensemble_3d_at_rest_is_the_paper_cone_and_seeded_velocities_repeat():
     assert a["duration"] == b["duration"] and a["orbits"] == b["orbits"]
     assert a["per_sample"]["w0"].shape == (32,)
     assert np.std(a["per_sample"]["w0"]) > 0.0
+    # Counts are int64, as in 2D and the CLI's JSON, and the integrator's steps are reported.
+    for count in ("collisions", "edge_collisions", "face_collisions", "contacts", "edge_contacts"):
+        assert a["per_sample"][count].dtype == np.int64, count
+    assert a["per_sample"]["duration"].dtype == np.float64
+    assert isinstance(a["ode_steps"], int) and a["ode_steps"] == b["ode_steps"] > 0
 
 
 def test_sweep_3d_has_the_3d_columns():
