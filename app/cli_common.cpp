@@ -319,11 +319,13 @@ void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std
   } else {
     text += ", most often a sustained contact that reached --max-ode-steps";
     if (guard > 0) text += " (here " + std::to_string(guard) + ")";
-    text += " integrator steps (at the default 2e7, a stick-slip that the integrator resolves only in tiny steps: "
-            "docs/robustness.md, finding 22). ";
+    text += " integrator steps: a ball that orbits the cone for a long time, rolling and sliding in turn (about "
+            "10^3 steps per unit of time; common in shallow cones with a small mu), or one that hovers at the limit of "
+            "rolling (docs/robustness.md, finding 22). ";
     text += one ? "Its status is trapped and its results stop at the guard ("
                 : "Their status is trapped and their results stop at the guard (";
-    text += where + "). A higher --max-ode-steps lets such runs go on; a lower one bounds their cost";
+    text += where + "). A shorter --t-max or a lower --max-ode-steps bounds their cost; a higher --max-ode-steps "
+                    "lets them go on";
   }
   std::cerr << text << ".\n";
 }

@@ -147,6 +147,11 @@ TEST_F(Cli, ARunStoppedByTheStepGuardIsFlaggedStalledAndWarnedOf) {
   EXPECT_EQ(a["params"]["max_ode_steps"], 5000);
   EXPECT_NE(r.output.find("funnel trajectory: warning: the run stalled"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("max-ode-steps"), std::string::npos) << r.output;
+  // It names the usual cause and both bounds on the cost.
+  EXPECT_NE(r.output.find("a ball that orbits the cone for a long time, rolling and sliding in turn"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("A shorter --t-max or a lower --max-ode-steps bounds their cost"), std::string::npos)
+      << r.output;
   // An ordinary run: not stalled, no warning, the default guard in its parameters.
   const Result plain = run("trajectory --space 3d --theta 60 --release 0.4 --release-w 0.05 --out " + path("b.json"));
   ASSERT_EQ(plain.code, 0) << plain.output;

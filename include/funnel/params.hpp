@@ -14,9 +14,11 @@ namespace funnel {
 
 struct ProfileSpec;
 
-/// The default step guard of a 3D sustained contact (Params::max_ode_steps): no physical contact
-/// needs it within the default time cap, except an exactly circular orbit, which never repeats a
-/// radial period (and the stick-slip of docs/robustness.md, finding 22).
+/// The default step guard of a 3D sustained contact (Params::max_ode_steps), about 20 s of one
+/// core. Within the default time cap three kinds of contact reach it (docs/model.md §9): a ball
+/// orbiting the cone for a long time, rolling and sliding in turn (about 10^3 steps per unit of
+/// time), an exactly circular orbit, which never repeats a radial period, and the stick-slip of
+/// docs/robustness.md, finding 22.
 inline constexpr std::int64_t default_max_ode_steps = 20'000'000;
 
 /// The least radius: far below any physical size, and far above the radii at which the squares in

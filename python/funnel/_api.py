@@ -189,8 +189,9 @@ def _text_columns(columns, names):
 
 class StalledWarning(RuntimeWarning):
     """Some 3D runs were ended by a guard before ``t_max`` (status trapped, ``stalled`` true):
-    most often a sustained contact that reached ``max_ode_steps`` integrator steps (docs/robustness.md,
-    finding 22)."""
+    most often a sustained contact that reached ``max_ode_steps`` integrator steps: a ball orbiting
+    the cone for a long time, rolling and sliding in turn, or hovering at the limit of rolling
+    (docs/robustness.md, finding 22)."""
 
 
 def _warn_stalled(stalled, runs, where):
@@ -200,9 +201,11 @@ def _warn_stalled(stalled, runs, where):
         what = "the run stalled: an internal guard ended it" if runs == 1 else \
             f"{stalled} of {runs} runs stalled: an internal guard ended them"
         warnings.warn(f"{what} before t_max, most often a sustained contact that reached max_ode_steps integrator "
-                      "steps (at the default 2e7, a stick-slip that the integrator resolves only in tiny steps: "
-                      f"docs/robustness.md, finding 22); status trapped, the results stop at the guard ({where}). "
-                      "A higher max_ode_steps lets such runs go on; a lower one bounds their cost",
+                      "steps: a ball that orbits the cone for a long time, rolling and sliding in turn (about 10^3 "
+                      "steps per unit of time; common in shallow cones with a small mu), or one that hovers at the "
+                      "limit of rolling (docs/robustness.md, finding 22); status trapped, the results stop at the "
+                      f"guard ({where}). A shorter t_max or a lower max_ode_steps bounds their cost; a higher "
+                      "max_ode_steps lets them go on",
                       StalledWarning, stacklevel=3)
 
 
