@@ -1,6 +1,7 @@
 // Value lists, ranges and Cartesian grids of parameters.
 #include "funnel/grid.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -21,6 +22,28 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
   return s;
+}
+
+/// Decimal places of a number as written ("0.25" 2, "1e-5" 5, "2.5e1" 0, "40" 0), or -1 when
+/// the text is not a plain decimal (hexadecimal, "inf", ...).
+int decimal_places(std::string_view text) {
+  std::size_t i = 0;
+  if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+  int digits = 0, fraction = 0;
+  for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) ++digits;
+  if (i < text.size() && text[i] == '.') {
+    for (++i; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) ++fraction;
+  }
+  if (digits + fraction == 0) return -1;
+  int exponent = 0;
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    const auto [ptr, ec] = std::from_chars(text.data() + i + 1 + (i + 1 < text.size() && text[i + 1] == '+'),
+                                           text.data() + text.size(), exponent);
+    if (ec != std::errc()) return -1;
+    i = static_cast<std::size_t>(ptr - text.data());
+  }
+  if (i != text.size() || exponent > 400 || exponent < -400) return -1;
+  return std::max(fraction - exponent, 0);
 }
 
 }  // namespace
@@ -59,7 +82,21 @@ std::optional<std::vector<double>> parse_values(std::string_view text, std::stri
       error = "a range may have at most 10^7 values";
       return std::nullopt;
     }
-    for (int i = 0; i < static_cast<int>(count); ++i) values.push_back(*start + i * *step);
+    // Each value the nearest double of its decimal when start and step are decimals of p <= 22
+    // places: 0.7:0.9:0.1 gives 0.8, not 0.7 + 0.1 = 0.7999999999999999 (a user who looks for
+    // e = 0.8 finds it, and the point is the one `--e 0.8` runs). With S = start 10^p and K =
+    // step 10^p (integers), (S + i K) / 10^p is that decimal correctly rounded, as long as every
+    // numerator is below 2^53 (each then exact) and 10^p is exact (p <= 22).
+    const int start_places = decimal_places(parts[0]), step_places = decimal_places(parts[2]);
+    const int places = std::max(start_places, step_places);
+    double scale = 1.0;
+    for (int k = 0; k < places && k < 23; ++k) scale *= 10.0;
+    const double s0 = std::round(*start * scale), k0 = std::round(*step * scale);
+    const bool decimal = start_places >= 0 && step_places >= 0 && places <= 22 &&
+                         std::fabs(s0) + count * std::fabs(k0) < 0x1p53;
+    for (int i = 0; i < static_cast<int>(count); ++i) {
+      values.push_back(decimal ? (s0 + i * k0) / scale : *start + i * *step);
+    }
     return values;
   }
   std::size_t pos = 0;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "funnel/grid.hpp"
@@ -135,6 +136,20 @@ TEST(Grid, ParsesListsAndInclusiveRanges) {
   EXPECT_EQ(v->size(), 3u);
   v = parse_values("0.1:0.3:0.1", err);  // 0.3 is included despite rounding
   EXPECT_EQ(v->size(), 3u);
+  // Each value is the double of its decimal, as the same number given alone: 0.1 + 2 * 0.1 is
+  // 0.30000000000000004, 0.7 + 0.1 is 0.7999999999999999, 0.5 + 7 * 0.01 0.5700000000000001.
+  EXPECT_EQ(*v, (std::vector<double>{0.1, 0.2, 0.3}));
+  EXPECT_EQ(*parse_values("0.7:0.9:0.1", err), (std::vector<double>{0.7, 0.8, 0.9}));
+  v = parse_values("0.5:0.99:0.01", err);
+  ASSERT_EQ(v->size(), 50u);
+  for (std::size_t i = 0; i < v->size(); ++i) {
+    char text[16];
+    std::snprintf(text, sizeof text, "0.%02zu", 50 + i);
+    EXPECT_EQ((*v)[i], *parse_number(text)) << text;
+  }
+  EXPECT_EQ(*parse_values("1e-3:5e-3:1e-3", err), (std::vector<double>{0.001, 0.002, 0.003, 0.004, 0.005}));
+  EXPECT_EQ((*parse_values("40:50:1e-5", err))[3], 40.00003);
+  EXPECT_EQ(*parse_values("-0.3:0.3:0.2", err), (std::vector<double>{-0.3, -0.1, 0.1, 0.3}));
 }
 
 TEST(Grid, RejectsMalformedValues) {
