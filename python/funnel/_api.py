@@ -517,7 +517,10 @@ def geometry(geometry=None, **model):
         x_release_mid (middle of the release line: x0 = x_release_mid + release * half_width)
         and walls {"left", "right"}: each wall's surface as (x, y)
         vertices from the top (0.1 above the release line) down to its lower end. With
-        ``geometry`` (as for :func:`simulate`) the V's own entries describe the parameters' V.
+        ``geometry`` (as for :func:`simulate`), or a V with two different wall angles or a spout,
+        the V's own entries describe the V of ``theta`` only; the walls (their lower ends are the
+        edge points) and y_exit describe the funnel itself. A V whose theta_left and theta_right
+        are equal is the symmetric V of that angle, and its entries are that angle's.
     """
     return _core().geometry(_model("geometry", model), _geometry(geometry))
 

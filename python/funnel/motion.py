@@ -94,6 +94,27 @@ def _window_segments(window, n):
     return np.arange(first + 1, last + 1)
 
 
+def _edge_points(geometry, wall, x, y, edge):
+    """(ex, ey): the edge point an edge contact turns about, for the segments where `edge`.
+
+    With the walls' vertices (geometry["walls"], as funnel.geometry() gives them), the vertex of
+    the contact's wall nearest the centre at the contact's start, which is a from it: any convex
+    corner of a profile, and each side's own lower end in an asymmetric V or a spout. Else the
+    paper's V: (-+half_gap, y_bottom)."""
+    ex, ey = np.zeros(len(edge)), np.zeros(len(edge))
+    walls = geometry.get("walls")
+    for i in np.flatnonzero(edge):
+        side = str(wall[i])
+        if walls and side in walls and len(walls[side]):
+            corners = np.asarray(walls[side], dtype=np.float64)
+            k = int(np.argmin(np.hypot(corners[:, 0] - x[i], corners[:, 1] - y[i])))
+            ex[i], ey[i] = corners[k]
+        else:
+            half_gap = float(geometry.get("half_gap", 0.0))
+            ex[i], ey[i] = (-half_gap if side == "left" else half_gap), float(geometry.get("y_bottom", 0.0))
+    return ex, ey
+
+
 class Segments:
     """The n segments of a trajectory with n events: segment i runs from event i-1 (the release,
     :func:`release_state`, for i = 0) to event i.
@@ -129,9 +150,7 @@ class Segments:
                              np.where(starts == "edge_contact_start", EDGE_CONTACT, FLIGHT))
         wall = shift(np.asarray(events["wall"], dtype=str), "none") if "wall" in events and n else np.full(n, "none")
         edge = self.kind == EDGE_CONTACT
-        half_gap = float(geometry.get("half_gap", 0.0))
-        self.ex = np.where(edge, np.where(wall == "left", -half_gap, half_gap), 0.0)
-        self.ey = np.where(edge, float(geometry.get("y_bottom", 0.0)), 0.0)
+        self.ex, self.ey = _edge_points(geometry, wall, self.x0, self.y0, edge)
         # A flight keeps its spin (the angle advances by omega * dt exactly); during a contact
         # the spin is taken to change linearly, so the angle advances by the mean spin * dt.
         dt = self.t1 - self.t0

@@ -500,9 +500,16 @@ py::list observable_table() {
 
 py::dict geometry(const std::map<std::string, double>& model, const py::object& profile) {
   const Params params = make_params(model, profile);
-  const funnel::Geometry g = funnel::make_geometry(params);
+  // A V whose two wall angles are set equal is the symmetric V of that angle: its theta, sines
+  // and edge height are that angle's (they were theta's, and a 45-degree V was drawn at 60).
+  Params v = params;
+  if (!v.profile && v.left_angle() == v.right_angle()) {
+    v.theta = v.left_angle();
+    v.theta_left = v.theta_right = Params::unset;
+  }
+  const funnel::Geometry g = funnel::make_geometry(v);
   py::dict d;
-  d["theta"] = params.theta;
+  d["theta"] = v.theta;
   d["sin_t"] = g.sin_t;
   d["cos_t"] = g.cos_t;
   d["tan_t"] = g.tan_t;

@@ -165,3 +165,32 @@ def test_bad_windows_events_and_geometries_are_value_errors():
         motion.state_at(g, {"time": [1.0], "kind": ["face"]}, [0.0])
     with pytest.raises(ValueError, match="^invalid geometry: no release height"):
         motion.state_at({"release": 0.3}, ev, [0.0])
+
+
+def test_edge_contacts_turn_about_their_own_walls_corner():
+    # An asymmetric V: each wall ends at its own height; a geometry file: edges at any convex
+    # corner. The drawn arc of an edge contact keeps the centre a from the edge point it turns
+    # about (it was drawn about (+-half_gap, y_bottom), the V of theta's edges).
+    # Shallow walls (sustained contacts slide over the edges): the left wall's edge lies lower
+    # than the V of theta's, and a spout's edges lie 0.05 H below the walls' lower ends.
+    for kwargs in ({"theta_left": 10.0, "theta": 15.0, "e": 0.3, "mu": 0.5},
+                   {"theta": 10.0, "theta_right": 14.0, "spout_length": 0.05, "e": 0.3, "mu": 0.5}):
+        g = funnel.geometry(**kwargs)
+        contacts = 0
+        for release in np.linspace(-0.95, 0.95, 39):
+            r = funnel.simulate(float(release), events=True, **kwargs)
+            seg = motion.Segments(g, r["events"])
+            edge = seg.kind == motion.EDGE_CONTACT
+            for x, y in ((seg.x0, seg.y0), (seg.x1, seg.y1)):
+                assert np.allclose(np.hypot(x[edge] - seg.ex[edge], y[edge] - seg.ey[edge]), g["radius"],
+                                   rtol=0, atol=1e-12), (kwargs, release)
+            contacts += int(np.sum(edge))
+        assert contacts >= 5, kwargs
+
+
+def test_a_v_with_both_wall_angles_equal_is_that_angles_v():
+    g = funnel.geometry(theta_left=45.0, theta_right=45.0)
+    h = funnel.geometry(theta=45.0)
+    for key in ("theta", "sin_t", "y_bottom", "half_width", "x_face_end"):
+        assert g[key] == h[key], key
+    assert g["walls"] == h["walls"]
