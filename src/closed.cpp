@@ -90,6 +90,8 @@ ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, c
   // path of a V); every sample is the same as classify_release's.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(ensemble.threads))
   for (std::int64_t task = 0; task < tasks; ++task) {
+    // Cancelled (Ctrl-C in Python): the tasks not yet begun are skipped; the result is discarded.
+    if (ensemble.cancel != nullptr && ensemble.cancel->load(std::memory_order_relaxed)) continue;
     const std::int64_t first = task * closed_batch;
     const std::int64_t last = std::min(n, first + closed_batch);
     std::vector<double> fractions;

@@ -603,12 +603,17 @@ def orbit(theta, beta0=0.0, inertia=0.4, radius=0.01, y_star=0.5):
                          _scalar("radius", radius), _scalar("y_star", y_star))
 
 
-def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4, max_coll=10_000_000,
-           window=20, slip_tol=1e-6, height_tol=1e-6, **model):
+def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=None, max_coll=None,
+           window=20, slip_tol=1e-6, height_tol=1e-6, seed=1, release=None, release_sd=None, geometry=None,
+           **model):
     """Long-time state of every release in a closed funnel (gap 0), like ``funnel closed``.
 
     As there, e defaults to 1 (the paper's Figs. 11 and 12: with e < 1 every release ends at
-    rest), and the model's t_max and max_collisions, if given, are the caps max_time and max_coll.
+    rest), and the caps are max_time (default 1e4) and max_coll (default 10^7), which the
+    model's names t_max and max_collisions also set (giving both names of one cap is an error).
+    seed, release and release_sd are those of :func:`ensemble` (the random and gaussian
+    releases); geometry (as for :func:`simulate`) must close: both walls end at one point.
+    Ctrl-C stops the run within a task of releases and raises KeyboardInterrupt.
 
     A release is ``periodic`` once ``window`` consecutive collisions alternate walls, have
     |slip| <= slip_tol * speed and repeat the previous height within height_tol (relative);
@@ -628,13 +633,26 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=1e4
     >>> c["periodic_fraction"]
     """
     model = {"e": 1.0, **model}
-    max_time = model.pop("t_max", max_time)
-    max_coll = model.pop("max_collisions", max_coll)
-    return _core().closed(_model("closed", model), _count("samples", samples),
-                          "line" if release_dist is None else str(release_dist),
-                          _count("threads", threads), _scalar("max_time", max_time),
-                          _count("max_coll", max_coll), _count("window", window),
-                          _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol))
+    caps = {}
+    for name, alias, value, default in (("max_time", "t_max", max_time, 1e4),
+                                        ("max_coll", "max_collisions", max_coll, 10_000_000)):
+        from_alias = alias in model
+        if from_alias and value is not None:
+            raise ValueError(f"invalid {alias} = {model[alias]}: valid range is one of {alias} and {name}, "
+                             f"not both (both set the cap; {name} = {value})")
+        cap = model.pop(alias) if from_alias else (default if value is None else value)
+        given = alias if from_alias else name
+        if name == "max_time" and isinstance(cap, numbers.Real) and not 0 < cap < math.inf:
+            raise ValueError(f"invalid {given} = {cap}: valid range is {given} > 0 (finite)")
+        caps[name] = cap
+    release_dist = "line" if release_dist is None else str(release_dist)
+    release, release_sd = _gaussian(release_dist, release, release_sd)
+    result = _core().closed(_model("closed", model), _count("samples", samples), release_dist,
+                            _count("threads", threads), _scalar("max_time", caps["max_time"]),
+                            _count("max_coll", caps["max_coll"]), _count("window", window),
+                            _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed),
+                            _scalar("release", release), _scalar("release_sd", release_sd), _geometry(geometry))
+    return result
 
 
 def retrace(theta, max_bounces=6, scan_points=1000, turns="wall", radius=0.01, gap=0.0, threads=0):

@@ -578,18 +578,19 @@ py::dict orbit(const std::vector<double>& thetas, double beta0, double inertia, 
 
 /// Final state of each release in a closed funnel (Figs. 11, 12).
 py::dict closed(const std::map<std::string, double>& model, std::int64_t samples, const std::string& release_dist,
-                int threads, double max_time, std::int64_t max_coll, int window, double slip_tol, double height_tol) {
+                int threads, double max_time, std::int64_t max_coll, int window, double slip_tol, double height_tol,
+                std::uint64_t seed, double release, double release_sd, const py::object& geometry) {
   std::map<std::string, double> m = model;
   if (const auto it = m.find("gap"); it != m.end() && it->second != 0.0) {
     throw py::value_error("invalid gap = " + funnel::format_number(it->second) + ": closed() needs gap = 0 (the default here)");
   }
-  m["gap"] = 0.0;
-  Params params = make_params(m);
-  const auto dist = funnel::parse_release_dist(release_dist);
-  if (!dist) {
-    throw py::value_error("invalid release_dist = '" + release_dist + "': valid values are line, disk, uniform, gaussian");
+  if (geometry.is_none()) m["gap"] = 0.0;  // a geometry's own walls must close (below)
+  Params params = make_params(m, geometry);
+  if (params.profile && !funnel::make_funnel(params).closed) {
+    throw py::value_error("invalid geometry: closed() needs a closed funnel (the two walls' lower ends at one point)");
   }
   if (samples < 1) throw py::value_error("invalid samples = " + std::to_string(samples) + ": valid range is samples >= 1");
+  funnel::EnsembleOptions ensemble = ensemble_options(samples, release_dist, threads, seed, release, release_sd, 0.0, 0);
   const auto check = [](bool ok, const char* name, double value, const char* range) {
     if (!ok) throw py::value_error(std::string("invalid ") + name + " = " + funnel::format_number(value) + ": valid range is " + range);
   };
@@ -609,14 +610,18 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   opt.slip_tol = slip_tol;
   opt.height_tol = height_tol;
   funnel::ClosedResult r;
-  {
-    py::gil_scoped_release release;
-    r = funnel::run_closed(params, {samples, *dist, threads, false}, opt);
-  }
+  run_interruptible(ensemble, py::none(), [&](const funnel::Progress&) { r = funnel::run_closed(params, ensemble, opt); });
   const double L = funnel::make_geometry(params).half_width;
   const std::size_t n = r.samples.size();
   py::dict d;
   d["params"] = params_dict(params);
+  d["geometry"] = geometry_record(params);
+  d["release_dist"] = std::string(funnel::to_string(ensemble.dist));
+  if (funnel::is_random(ensemble)) d["seed"] = ensemble.seed;
+  if (ensemble.dist == funnel::ReleaseDist::Gaussian) {
+    d["release"] = ensemble.release_mean;
+    d["release_sd"] = ensemble.release_sd;
+  }
   d["options"] = py::dict(py::arg("max_time") = opt.max_time, py::arg("max_collisions") = opt.max_collisions,
                           py::arg("window") = opt.window, py::arg("slip_tol") = opt.slip_tol,
                           py::arg("height_tol") = opt.height_tol);
@@ -676,7 +681,8 @@ PYBIND11_MODULE(_funnel, m) {
 
   m.def("orbit", &orbit, py::arg("thetas"), py::arg("beta0"), py::arg("inertia"), py::arg("radius"), py::arg("y_star"));
   m.def("closed", &closed, py::arg("model"), py::arg("samples"), py::arg("release_dist"), py::arg("threads"),
-        py::arg("max_time"), py::arg("max_coll"), py::arg("window"), py::arg("slip_tol"), py::arg("height_tol"));
+        py::arg("max_time"), py::arg("max_coll"), py::arg("window"), py::arg("slip_tol"), py::arg("height_tol"),
+        py::arg("seed"), py::arg("release"), py::arg("release_sd"), py::arg("geometry"));
   bind_retrace(m);
   bind_3d(m);
   bind_paper(m);

@@ -65,6 +65,56 @@ def test_closed_reports_the_caps_it_used():
         funnel.closed(theta=50, samples=8, max_time=float("inf"))
 
 
+def test_closed_takes_the_releases_and_the_geometry_funnel_closed_takes(cli, tmp_path):
+    # seed, release and release_sd as funnel closed's --seed, --release, --release-sd (they were
+    # missing: uniform and gaussian releases were stuck at seed 1, mean 0, sd 0.1).
+    for dist, extra, args in (("uniform", {"seed": 7}, ["--seed", "7"]),
+                              ("gaussian", {"seed": 3, "release": 0.2, "release_sd": 0.05},
+                               ["--seed", "3", "--release", "0.2", "--release-sd", "0.05"])):
+        py = funnel.closed(theta=50, mu=0.1, samples=30, release_dist=dist, **extra)
+        ref = cli("closed", "--theta", "50", "--mu", "0.1", "--samples", "30", "--release-dist", dist, *args)
+        assert py["release"].tolist() == ref["per_sample"]["release"], dist
+        assert py["state"] == ref["per_sample"]["state"], dist
+        assert py["seed"] == extra["seed"] and py["release_dist"] == dist
+    other = funnel.closed(theta=50, mu=0.1, samples=30, release_dist="uniform", seed=8)
+    assert other["release"].tolist() != funnel.closed(theta=50, mu=0.1, samples=30, release_dist="uniform",
+                                                      seed=7)["release"].tolist()
+    with pytest.raises(ValueError, match="release_dist \"gaussian\" only"):
+        funnel.closed(samples=4, release=0.2)
+    # A closed geometry (both walls end at one point), as funnel closed --geometry.
+    walls = {"mirror": True, "left": {"vertices": [[-1.2, 1.4], [-0.4, 0.7], [0.0, 0.0]]}}
+    path = tmp_path / "closed.toml"
+    path.write_text("mirror = true\n[left]\nvertices = [[-1.2, 1.4], [-0.4, 0.7], [0.0, 0.0]]\n")
+    py = funnel.closed(samples=20, mu=0.1, geometry=walls)
+    ref = cli("closed", "--samples", "20", "--mu", "0.1", "--geometry", str(path))
+    assert py["state"] == ref["per_sample"]["state"]
+    assert py["geometry"]["walls"] == ref["geometry"]["walls"]
+    with pytest.raises(ValueError, match="closed funnel"):
+        funnel.closed(samples=4, geometry={"mirror": True, "left": {"vertices": [[-1, 1], [-0.1, 0]]}})
+    # One cap, one name.
+    with pytest.raises(ValueError, match="invalid t_max = 20: valid range is one of t_max and max_time"):
+        funnel.closed(samples=4, t_max=20, max_time=30)
+    with pytest.raises(ValueError, match="invalid t_max = -1: valid range is t_max > 0"):
+        funnel.closed(samples=4, t_max=-1)
+
+
+def test_ctrl_c_interrupts_closed():
+    import os
+    import signal
+    import threading
+    import time
+
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            funnel.closed(samples=400000, theta=50, mu=0.01, threads=2)  # about 14 s uninterrupted
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 6
+
+
 def test_closed_fraction_grows_with_friction_and_rejects_a_gap():
     low = funnel.closed(theta=50, e=1, mu=0.01, samples=200)["periodic_fraction"]
     high = funnel.closed(theta=50, e=1, mu=1.0, samples=200)["periodic_fraction"]
