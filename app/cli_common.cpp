@@ -203,8 +203,10 @@ void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool
       ->type_name("DIST");
   app.add_option("--seed", text.seed,
                  "seed of the random releases and velocities (a counter-based generator keyed by seed and sample "
-                 "index: the same samples for any thread count); integer 0 <= seed < 2^64 (default 1)")
-      ->type_name("S");
+                 "index: the same samples for any thread count); integer 0 <= seed < 2^64 (default 1); only with "
+                 "random releases or velocities")
+      ->type_name("S")
+      ->each([&text](const std::string&) { text.seed_given = true; });
   app.add_option("--release", text.release, "gaussian: mean release position x0/L; -1 < X < 1 (default 0)")
       ->type_name("X")
       ->each([&text](const std::string&) { text.gaussian_given.emplace_back("release"); });
@@ -272,6 +274,12 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
                      (mean ? "-1 < release < 1" : "0 < release-sd <= 10") +
                      ", with --release-dist gaussian only (a 2D distribution: the " +
                      (mean ? "mean" : "standard deviation") + " of its x0/L)");
+  }
+  // Likewise a seed where nothing is drawn at random: two seeds would look like two samples.
+  if (text.seed_given && !is_random(o)) {
+    throw UsageError("invalid seed = " + text.seed +
+                     ": valid range is an integer 0 <= seed < 2^64, with random releases or velocities only "
+                     "(--release-dist uniform or gaussian, or --velocity-sd > 0; these releases draw no random number)");
   }
   const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^6");
   o.wear_bins = static_cast<int>(std::clamp<std::int64_t>(bins, -1, 1'000'001));

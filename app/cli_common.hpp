@@ -87,6 +87,8 @@ struct EnsembleText {
   std::string threads = "0";
   /// The gaussian distribution's options given ("release", "release-sd"): refused with another.
   std::vector<std::string> gaussian_given;
+  /// --seed given: refused where no random number is drawn.
+  bool seed_given = false;
 };
 /// Adds the ensemble options; with `velocity` also --velocity-sd, with `wear` --wear-bins.
 void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity = true, bool wear = true);

@@ -108,6 +108,10 @@ TEST_F(Cli, ReleaseAndEnsembleOptionsAreValidated) {
   expect_rejected(run("ensemble --release-dist gaussian --release 1" + out), "release", "1");
   expect_rejected(run("ensemble --velocity-sd -0.1" + out), "velocity-sd", "-0.1");
   expect_rejected(run("ensemble --seed -4" + out), "seed", "-4");
+  // A seed where nothing is random would look like another sample: refused, in 2D and 3D.
+  expect_rejected(run("ensemble --seed 3" + out), "seed = 3", "with random releases or velocities only");
+  expect_rejected(run("sweep --theta 40,50 --seed 3 --out " + path("s.csv")), "seed = 3", "random releases");
+  expect_rejected(run("ensemble --space 3d --seed 3" + out), "seed = 3", "--velocity-sd > 0");
   expect_rejected(run("ensemble --wear-bins 2000000" + out), "wear-bins", "2000000");
   // A whole number beyond the int64 cap is out of range, not "not an integer"; the range says so.
   expect_rejected(run("trajectory --release 0 --max-collisions 9223372036854775807" + out), "max-collisions",
