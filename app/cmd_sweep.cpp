@@ -246,7 +246,8 @@ struct SweepCommand {
     std::map<std::size_t, std::string> done;
     if (target.regular()) {
       partial = target.path + ".partial";
-      if (!resume && !overwrite && std::filesystem::exists(partial)) {
+      // A partial file without a finished point holds nothing to lose: it is started again.
+      if (!resume && !overwrite && std::filesystem::exists(partial) && partial_points(partial) > 0) {
         throw UsageError("'" + partial + "' holds " + std::to_string(partial_points(partial)) +
                          " finished points of an interrupted sweep: add --resume to continue it (same grid and "
                          "options), or --overwrite to discard them and start again");
@@ -258,7 +259,11 @@ struct SweepCommand {
           line.back() = ',';
           prefixes.push_back(std::move(line));
         }
-        done = read_partial(partial, spec_line, header, prefixes);
+        if (std::filesystem::exists(partial)) {
+          done = read_partial(partial, spec_line, header, prefixes);
+        } else {
+          std::cerr << "funnel sweep: --resume: no partial file '" << partial << "' to continue; running every point\n";
+        }
       }
       write_partial_start(partial, spec_line, header, done);
       if (!done.empty()) {

@@ -332,4 +332,21 @@ TEST_F(Cli, ASweepOfAGeometryFileResumesOnlyTheSameWalls) {
   EXPECT_EQ(read("cut.csv"), read("full.csv"));
 }
 
+TEST_F(Cli, ResumeWithNothingToResumeSaysSoAndAnEmptyPartialFileBlocksNothing) {
+  const std::string grid = "sweep --theta 40,50 --samples 20 --out " + path("s.csv");
+  // --resume without a partial file runs every point, and says that nothing was continued.
+  const Result fresh = run(grid + " --resume");
+  ASSERT_EQ(fresh.code, 0) << fresh.output;
+  EXPECT_NE(fresh.output.find("--resume: no partial file"), std::string::npos) << fresh.output;
+  const std::string full = read("s.csv");
+  // A partial file left before its first point was finished holds nothing to lose: not refused.
+  const std::string spec = nlohmann::ordered_json::parse(read("s.csv.json"))["spec"].dump();
+  write("s.csv.partial", "# funnel sweep spec: " + spec + "\npoint," + full.substr(0, full.find('\n') + 1));
+  fs::remove(path("s.csv"));
+  const Result again = run(grid);
+  ASSERT_EQ(again.code, 0) << again.output;
+  EXPECT_EQ(read("s.csv"), full);
+  EXPECT_FALSE(fs::exists(path("s.csv.partial")));
+}
+
 }  // namespace
