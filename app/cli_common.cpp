@@ -223,7 +223,8 @@ void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool
   if (wear) {
     app.add_option("--wear-bins", text.wear_bins,
                    "record where the walls wear in N equal bins along each wall (JSON key 'wear', per-sample "
-                   "means); integer 0 <= N <= 10^6 (default 0: none)")
+                   "means; with csv the output is the wear table, one row per wall and bin, instead of the "
+                   "summary); integer 0 <= N <= 10^6 (default 0: none)")
         ->type_name("N");
   }
   app.add_option("--threads", text.threads, "worker threads; integer >= 1, or 0 = all cores (default 0)")
