@@ -171,12 +171,12 @@ void validate_all(const std::vector<Params>& points, Space space) {
 }
 
 std::int64_t to_samples(const std::string& text) {
-  std::int64_t n = 0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
-  if (ec != std::errc() || ptr != text.data() + text.size() || n < 1 || n > 1'000'000'000) {
+  // Written as an integer or as a whole number in any form (4e3, as --max-collisions 1e8).
+  const auto v = parse_number(text);
+  if (!v || !(*v >= 1.0 && *v <= 1e9) || *v != std::floor(*v)) {
     throw UsageError("invalid samples = '" + text + "': valid range is an integer 1 <= samples <= 10^9");
   }
-  return n;
+  return static_cast<std::int64_t>(*v);
 }
 
 ReleaseDist to_release_dist(const std::string& text) {

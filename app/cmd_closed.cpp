@@ -117,6 +117,12 @@ void add_closed_command(CLI::App& app, const std::string& command_line) {
   sub->get_option("--max-collisions")->description(
       "collision cap per release; " + std::string(valid_range("max-collisions")) + " (default 1e7 here); beyond it: undecided");
   add_ensemble_options(*sub, cmd->ens, false, false);
+  // funnel closed is 2D only: its releases without the 3D note of the shared text.
+  sub->get_option("--release-dist")
+      ->description("release distribution: line (x0 uniformly spaced, the paper's), disk (x0/L = sqrt((k + 1/2)/N), the cone's "
+                    "radii uniform over the disk, Sec. V), "
+                    "uniform (x0/L uniform random), gaussian (x0/L normal, mean --release, sd --release-sd, truncated "
+                    "to (-1, 1)); default line");
   sub->add_option("--window", cmd->window,
                   "consecutive collisions that must pass the periodic test; integer >= 1 (default 20)")->type_name("K");
   sub->add_option("--slip-tol", cmd->slip_tol, "periodic test: |slip before| <= tol * speed; > 0 (default 1e-6)")->type_name("TOL");

@@ -349,4 +349,16 @@ TEST_F(Cli, ResumeWithNothingToResumeSaysSoAndAnEmptyPartialFileBlocksNothing) {
   EXPECT_FALSE(fs::exists(path("s.csv.partial")));
 }
 
+TEST_F(Cli, SamplesMayBeWrittenAsAnyWholeNumber) {
+  // 2e1 as --max-collisions 1e8 is: the same run as 20; 1.5 and 1e10 are refused.
+  json a = parse(run("ensemble --samples 2e1"));
+  json b = parse(run("ensemble --samples 20"));
+  a.erase("provenance");
+  b.erase("provenance");
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(a["samples"], 20);
+  expect_rejected(run("ensemble --samples 1.5"), "samples", "'1.5': valid range is an integer 1 <= samples <= 10^9");
+  expect_rejected(run("ensemble --samples 1e10"), "samples", "1e10");
+}
+
 }  // namespace
