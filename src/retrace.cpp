@@ -364,6 +364,7 @@ std::vector<Orbit> scan(const Params& params, const std::vector<double>& thetas,
   const auto n = static_cast<std::int64_t>(thetas.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t i = 0; i < n; ++i) {
+    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
     Params p = params;
     p.theta = thetas[static_cast<std::size_t>(i)];
     per[static_cast<std::size_t>(i)] = find_orbits(p, options);

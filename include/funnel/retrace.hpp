@@ -1,6 +1,7 @@
 // Self-retracing orbits of an elastic frictionless particle (mu = 0, e = 1): search, period, stability.
 #pragma once
 
+#include <atomic>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -38,6 +39,9 @@ struct Options {
   double accept_angle = 1e-8;   ///< a refined root counts if its turn angle is below this, radians
   double repeat_angle = 1e-6;   ///< an earlier turn below this angle marks a repetition, radians
   int threads = 0;              ///< scan(): worker threads, 0 = all cores
+  /// scan(): once set, the angles not yet begun are skipped (Ctrl-C in Python); the result is
+  /// then incomplete and discarded.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// One self-retracing orbit in one funnel.

@@ -48,12 +48,15 @@ py::dict retrace(const std::vector<double>& thetas, double radius, double gap, i
   std::vector<funnel::retrace::Orbit> orbits;
   std::vector<funnel::retrace::ReturnCheck> checks;
   std::vector<funnel::retrace::Window> wins;
-  {
-    py::gil_scoped_release nogil;
+  std::atomic<bool> cancel{false};
+  opt.cancel = &cancel;
+  // Ctrl-C skips the angles not yet begun and raises KeyboardInterrupt (it ran to the end).
+  funnel::py_convert::run_reporting(py::none(), cancel, [&](const funnel::Progress&) {
     orbits = funnel::retrace::scan(base, thetas, opt);
+    if (cancel.load()) return;
     for (const auto& o : orbits) checks.push_back(funnel::retrace::check_return(base, o));
     wins = funnel::retrace::windows(orbits, thetas);
-  }
+  });
   const std::size_t n = orbits.size();
   py::dict o;  // the columns of `funnel retrace --format csv`
   o["theta"] = column<double>(n, [&](std::size_t i) { return orbits[i].theta; });
