@@ -19,6 +19,12 @@ Mode mode_from_environment() {
   const std::string v = env;
   if (v == "always") return Mode::Always;
   if (v == "never") return Mode::Never;
+  // A misspelt value ("nevr") would silently draw the bar or not: said once per process.
+  static bool said = false;
+  if (!said && !v.empty() && v != "auto") {
+    said = true;
+    std::fprintf(stderr, "funnel: warning: FUNNEL_PROGRESS = '%s' is not always, never or auto; using auto\n", v.c_str());
+  }
   return Mode::Auto;
 }
 

@@ -142,6 +142,20 @@ TEST_F(Cli, AReaderThatClosesThePipeEarlyIsAnOutputErrorNotASilentSignal) {
   EXPECT_NE(read("err.txt").find("cannot write to standard output: Broken pipe"), std::string::npos) << read("err.txt");
 }
 
+TEST_F(Cli, AnUnknownProgressSettingIsSaidOnceAndTheKnownOnesSilently) {
+  const Result odd = run("sweep --theta 40,50 --samples 20 --out " + path("a.csv"), "FUNNEL_PROGRESS=nevr");
+  ASSERT_EQ(odd.code, 0) << odd.output;
+  const std::string warning = "funnel: warning: FUNNEL_PROGRESS = 'nevr' is not always, never or auto; using auto";
+  const auto at = odd.output.find(warning);
+  EXPECT_NE(at, std::string::npos) << odd.output;
+  EXPECT_EQ(odd.output.find(warning, at + 1), std::string::npos) << odd.output;  // once
+  for (const char* known : {"never", "auto", "always"}) {
+    const Result r = run("sweep --theta 40,50 --samples 20 --out " + path("b.csv"), std::string("FUNNEL_PROGRESS=") + known);
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(r.output.find("warning"), std::string::npos) << known << ": " << r.output;
+  }
+}
+
 TEST_F(Cli, MisspeltSubcommandsAndOptionsGetTheNearestNameAndTheirHelp) {
   const Result sub = run("trajectroy --release 0.3");
   EXPECT_EQ(sub.code, 2);
