@@ -34,3 +34,25 @@ def cli():
         return json.loads(proc.stdout) if json_output else proc.stdout
 
     return run
+
+
+@pytest.fixture
+def ctrl_c():
+    """``ctrl_c(call)``: runs ``call()`` while Ctrl-C (SIGINT) arrives 1 s in, and asserts that it
+    raised KeyboardInterrupt within ``within`` seconds of its start (keyword, default 6)."""
+    import signal
+    import threading
+    import time
+
+    def run(call, within=6.0):
+        timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+        start = time.monotonic()
+        timer.start()
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                call()
+        finally:
+            timer.cancel()
+        assert time.monotonic() - start < within
+
+    return run

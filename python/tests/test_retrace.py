@@ -135,20 +135,7 @@ def test_invalid_input_raises_value_error_naming_the_parameter():
         funnel.retrace(60, gap=0.01)
 
 
-def test_ctrl_c_interrupts_a_long_retrace_scan():
+def test_ctrl_c_interrupts_a_long_retrace_scan(ctrl_c):
     # 5001 angles with up to 12 bounces take minutes: Ctrl-C skips the angles not yet begun
     # (the scan ran to its end before raising).
-    import os
-    import signal
-    import threading
-    import time
-
-    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
-    start = time.monotonic()
-    timer.start()
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            funnel.retrace("30:80:0.01", max_bounces=12, threads=2)
-    finally:
-        timer.cancel()
-    assert time.monotonic() - start < 6
+    ctrl_c(lambda: funnel.retrace("30:80:0.01", max_bounces=12, threads=2))

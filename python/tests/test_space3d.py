@@ -105,45 +105,19 @@ def test_3d_runs_report_progress_and_stop_on_ctrl_c():
     assert time.monotonic() - start < 30
 
 
-def test_ctrl_c_interrupts_a_3d_ensemble_whose_tasks_take_long():
+def test_ctrl_c_interrupts_a_3d_ensemble_whose_tasks_take_long(ctrl_c):
     # Ctrl-C is noticed ten times a second, not only when a task of 128 balls ends, and a long
     # integrated contact stops too: in this closed cone a few balls roll round the axis close
     # to the vertex for seconds each (the whole run takes about 20 s).
-    import os
-    import signal
-    import threading
-    import time
-
-    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
-    start = time.monotonic()
-    timer.start()
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            funnel.ensemble(samples=400, space="3d", theta=50, e=0.9, mu=0.2, gap=0, t_max=60,
-                            velocity_sd=0.2, seed=9, threads=2)
-    finally:
-        timer.cancel()
-    assert time.monotonic() - start < 6
+    ctrl_c(lambda: funnel.ensemble(samples=400, space="3d", theta=50, e=0.9, mu=0.2, gap=0, t_max=60,
+                                   velocity_sd=0.2, seed=9, threads=2))
 
 
-def test_ctrl_c_interrupts_balls_that_hand_over_between_the_face_and_the_rim():
+def test_ctrl_c_interrupts_balls_that_hand_over_between_the_face_and_the_rim(ctrl_c):
     # At 46 degrees balls thrown gently sideways orbit across C*, handing over between the face
     # and the rim thousands of times in contacts too short to look at the flag themselves: the
     # hand-overs look at it (Ctrl-C was raised a minute late; the whole run takes minutes).
-    import os
-    import signal
-    import threading
-    import time
-
-    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
-    start = time.monotonic()
-    timer.start()
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            funnel.ensemble(samples=20000, space="3d", theta=46, velocity_sd=0.03, threads=2)
-    finally:
-        timer.cancel()
-    assert time.monotonic() - start < 6
+    ctrl_c(lambda: funnel.ensemble(samples=20000, space="3d", theta=46, velocity_sd=0.03, threads=2))
 
 
 #: A ball hovering at the limit of rolling on an 86-degree cone (docs/robustness.md, finding 22):
