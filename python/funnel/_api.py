@@ -622,7 +622,8 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
     Returns
     -------
     dict
-        params (with the caps as t_max and max_collisions), options {max_time, max_collisions,
+        params (with the caps as t_max and max_collisions), geometry, release_dist (with seed for
+        random releases, release_mean and release_sd for gaussian ones), options {max_time, max_collisions,
         window, slip_tol, height_tol}, periodic_fraction (float), state_counts {periodic, rest,
         undecided}, and per release (n,): release (x0/L), state (str), x_last_over_L,
         x_prev_over_L, y_last, y_prev, collisions (int64), time.

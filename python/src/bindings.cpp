@@ -298,6 +298,17 @@ funnel::EnsembleOptions ensemble_options(std::int64_t samples, const std::string
   return o;
 }
 
+/// The release distribution of a run into `d`: release_dist, the seed of random releases, and
+/// for gaussian ones the mean (under `mean_key`) and release_sd.
+void put_releases(py::dict& d, const funnel::EnsembleOptions& options, const char* mean_key) {
+  d["release_dist"] = std::string(funnel::to_string(options.dist));
+  if (funnel::is_random(options)) d["seed"] = options.seed;
+  if (options.dist == funnel::ReleaseDist::Gaussian) {
+    d[mean_key] = options.release_mean;
+    d["release_sd"] = options.release_sd;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Module functions
 
@@ -348,12 +359,7 @@ py::dict ensemble(const std::map<std::string, double>& model, std::int64_t sampl
   py::dict d;
   d["params"] = params_dict(params);
   d["geometry"] = geometry_record(params);
-  d["release_dist"] = std::string(funnel::to_string(options.dist));
-  if (funnel::is_random(options)) d["seed"] = options.seed;
-  if (options.dist == funnel::ReleaseDist::Gaussian) {
-    d["release"] = options.release_mean;
-    d["release_sd"] = options.release_sd;
-  }
+  put_releases(d, options, "release");
   d["velocity_sd"] = options.velocity_sd;
   d["samples"] = r.samples;
   for (const funnel::ObservableInfo& o : funnel::observables()) {
@@ -616,12 +622,7 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   py::dict d;
   d["params"] = params_dict(params);
   d["geometry"] = geometry_record(params);
-  d["release_dist"] = std::string(funnel::to_string(ensemble.dist));
-  if (funnel::is_random(ensemble)) d["seed"] = ensemble.seed;
-  if (ensemble.dist == funnel::ReleaseDist::Gaussian) {
-    d["release"] = ensemble.release_mean;
-    d["release_sd"] = ensemble.release_sd;
-  }
+  put_releases(d, ensemble, "release_mean");  // "release" is the column of the releases
   d["options"] = py::dict(py::arg("max_time") = opt.max_time, py::arg("max_collisions") = opt.max_collisions,
                           py::arg("window") = opt.window, py::arg("slip_tol") = opt.slip_tol,
                           py::arg("height_tol") = opt.height_tol);
