@@ -75,11 +75,6 @@ Params base_params(const ModelOptions& options) {
     // The file's walls replace the V, and their own materials the parameters': such a parameter
     // given too would be ignored, yet recorded in the output as if it had been used (and a sweep
     // over it would label equal rows apart).
-    for (const auto& [name, text] : options.given) {
-      if (set_by_geometry(name)) {
-        throw UsageError("invalid " + name + " = " + text + ": valid range is " + std::string(not_with_geometry));
-      }
-    }
     p.profile = read_geometry(options.geometry);
     for (const auto& [name, text] : options.given) {
       if (const auto why = unused_with_geometry(name, *p.profile)) {
@@ -146,22 +141,19 @@ std::string grid_dims(const std::vector<Axis>& axes) {
   return dims;
 }
 
+std::string count_text(double n) {
+  if (n < 1e15) return std::to_string(static_cast<std::int64_t>(n));
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", n);
+  return buf;
+}
+
 void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std::string& why) {
   const double points = grid_points(axes);
   if (points <= max_points) return;
   const std::string dims = grid_dims(axes);
-  // Exact counts below 1e15 (rounded to 3 digits, 1000001 points read as "1e+06", within the cap).
-  const auto text = [](double n) {
-    char buf[32];
-    if (n < 1e15) {
-      std::snprintf(buf, sizeof buf, "%.0f", n);
-    } else {
-      std::snprintf(buf, sizeof buf, "%.3g", n);
-    }
-    return std::string(buf);
-  };
-  throw UsageError("invalid grid = " + dims + ": " + text(points) + " points; valid range is at most " + text(max_points) +
-                   " points (" + why + "): use a coarser grid, or split it into several runs");
+  throw UsageError("invalid grid = " + dims + ": " + count_text(points) + " points; valid range is at most " +
+                   count_text(max_points) + " points (" + why + "): use a coarser grid, or split it into several runs");
 }
 
 void validate_all(const std::vector<Params>& points, Space space) {

@@ -60,6 +60,10 @@ std::vector<Axis> to_axes(const ModelOptions& options);
 /// "theta 8801 x mu 115": the axes of more than one value, with their sizes.
 std::string grid_dims(const std::vector<Axis>& axes);
 
+/// A count of points or trajectories as text: exact below 10^15 (rounded, 1000001 would read as
+/// 1e+06, within a cap of 10^6), else to 3 digits.
+std::string count_text(double n);
+
 /// Refuses, before the grid is built, a grid of more than `max_points` points (their product
 /// over the axes): its points and rows are held in memory (a huge grid ended in bad_alloc).
 void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std::string& why);

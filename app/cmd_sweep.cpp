@@ -58,13 +58,6 @@ std::string duration_text(double s) {
   return buf;
 }
 
-std::string count_text(double n) {
-  if (n < 1e15) return std::to_string(static_cast<std::int64_t>(n));
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", n);
-  return buf;
-}
-
 // ---- What an interruption (Ctrl-C, kill) prints ----
 // Prepared before the run: a signal handler may only call async-signal-safe functions.
 std::string interrupt_head;
