@@ -331,4 +331,17 @@ void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std
   std::cerr << text << ".\n";
 }
 
+void warn_capped(const std::string& who, std::int64_t capped, std::int64_t runs, std::int64_t cap) {
+  if (capped == 0) return;
+  const bool one = runs == 1;
+  const std::string limit = "--max-collisions" + (cap > 0 ? " (" + count_text(static_cast<double>(cap)) + ")" : std::string());
+  std::cerr << who << ": warning: "
+            << (one ? "the run reached " + limit + " inside the funnel: its status is trapped and its"
+                    : std::to_string(capped) + " of " + std::to_string(runs) + " runs reached " + limit +
+                          " inside the funnel: their status is trapped and their")
+            << " duration, impulse and energy loss stop at the cap, short of the time cap t-max. A higher "
+               "--max-collisions lets "
+            << (one ? "it" : "them") << " go on.\n";
+}
+
 }  // namespace funnel::cli

@@ -119,4 +119,10 @@ std::vector<std::string> comma_items(const std::string& text);
 void warn_stalled(const std::string& who, Space space, std::int64_t stalled, std::int64_t runs,
                   const std::string& where = "", std::int64_t guard = 0);
 
+/// Warns on standard error when `capped` of `runs` runs (runs >= 1) reached the collision cap
+/// inside the funnel (Trajectory::capped, Trajectory3::capped: status trapped, the observables
+/// cut short there): `who` is the command, `cap` the max-collisions in effect (0: it varies).
+/// Nothing when capped is 0.
+void warn_capped(const std::string& who, std::int64_t capped, std::int64_t runs, std::int64_t cap);
+
 }  // namespace funnel::cli

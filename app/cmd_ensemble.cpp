@@ -103,6 +103,8 @@ struct EnsembleCommand {
       text = csv_line(cols) + csv_line(row);
     }
     write_output(out, text);
+    warn_stalled("funnel ensemble", Space::TwoD, r.stalled, r.samples);
+    warn_capped("funnel ensemble", r.capped, r.samples, params.max_collisions);
   }
 };
 

@@ -276,6 +276,9 @@ struct SweepCommand {
     }
     const std::string total = std::to_string(points.size());
     points_saved = static_cast<std::int64_t>(done.size());
+    // Runs of the points computed now that the collision cap (2D and 3D) or the Zeno guard (2D;
+    // 3D's stalled count is a column) ended: not in the CSV, so a resume knows only its own.
+    std::int64_t capped_now = 0, stalled_now = 0;
     {
       const InterruptNotice notice =
           target.regular()
@@ -313,11 +316,16 @@ struct SweepCommand {
           };
       const auto progress = [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); };
       if (sp == Space::ThreeD) {
-        run_sweep_3d(todo, options3, progress,
-                     [&](std::size_t k, const Ensemble3Result& r) { point_done(k, ensemble_row(r)); });
+        run_sweep_3d(todo, options3, progress, [&](std::size_t k, const Ensemble3Result& r) {
+          capped_now += r.capped;
+          point_done(k, ensemble_row(r));
+        });
       } else {
-        distributed_sweep(todo, options, progress,
-                          [&](std::size_t k, const EnsembleResult& r) { point_done(k, ensemble_row(r)); });
+        distributed_sweep(todo, options, progress, [&](std::size_t k, const EnsembleResult& r) {
+          capped_now += r.capped;
+          stalled_now += r.stalled;
+          point_done(k, ensemble_row(r));
+        });
       }
       bar.finish(std::to_string(todo.size()) + " of " + total + " points computed");
       if (f != nullptr) std::fclose(f);
@@ -340,7 +348,14 @@ struct SweepCommand {
       });
       warn_stalled("funnel sweep", sp, stalled, static_cast<std::int64_t>(points.size()) * options.samples,
                    "the column stalled", one_guard ? points.front().max_ode_steps : 0);
+    } else {
+      warn_stalled("funnel sweep", sp, stalled_now, static_cast<std::int64_t>(todo.size()) * options.samples);
     }
+    const bool one_cap = std::all_of(points.begin(), points.end(), [&](const Params& p) {
+      return p.max_collisions == points.front().max_collisions;
+    });
+    warn_capped("funnel sweep", capped_now, static_cast<std::int64_t>(todo.size()) * options.samples,
+                one_cap ? points.front().max_collisions : 0);
     if (!target.regular()) {
       std::cerr << "funnel sweep: provenance (FILE.csv.json) not written: --out '" << out << "' is not a regular file\n";
       return;

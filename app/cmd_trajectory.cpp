@@ -84,6 +84,7 @@ struct TrajectoryCommand {
     }
     write_output(out, text);
     warn_stalled("funnel trajectory", Space::TwoD, t.stalled ? 1 : 0, 1);
+    warn_capped("funnel trajectory", t.capped ? 1 : 0, 1, params.max_collisions);
   }
 };
 

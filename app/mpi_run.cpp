@@ -115,6 +115,8 @@ void put_chunk(Writer& w, const ChunkStats& c) {
   w.put(c.exited);
   w.put(c.rest);
   w.put(c.trapped);
+  w.put(c.capped);
+  w.put(c.stalled);
   w.put(c.total_collisions);
   w.put(c.simulated_collisions);
   w.put(c.wear.bins);
@@ -136,6 +138,8 @@ ChunkStats get_chunk(Reader& r) {
   c.exited = r.get<std::int64_t>();
   c.rest = r.get<std::int64_t>();
   c.trapped = r.get<std::int64_t>();
+  c.capped = r.get<std::int64_t>();
+  c.stalled = r.get<std::int64_t>();
   c.total_collisions = r.get<std::int64_t>();
   c.simulated_collisions = r.get<std::int64_t>();
   c.wear.bins = r.get<int>();

@@ -179,6 +179,7 @@ nlohmann::ordered_json ensemble_json(const Ensemble3Result& r) {
   j["status_counts"] = {{"exited", r.exited}, {"rest", r.rest}, {"trapped", r.trapped}};
   j["periodic"] = r.periodic;
   j["stalled"] = r.stalled;
+  j["capped"] = r.capped;
   j["total_collisions"] = r.total_collisions;
   j["ode_steps"] = r.ode_steps;
   return j;

@@ -70,6 +70,7 @@ void write_trajectory_3d(const Params& params, double release, bool events, Form
   write_output(out, text);
   warn_stalled("funnel trajectory", Space::ThreeD, t.stalled ? 1 : 0, 1, "\"stalled\" in the output",
                params.max_ode_steps);
+  warn_capped("funnel trajectory", t.capped ? 1 : 0, 1, params.max_collisions);
 }
 
 void write_ensemble_3d(const Params& params, const Ensemble3Options& options, bool per_sample, Format format,
@@ -128,6 +129,7 @@ void write_ensemble_3d(const Params& params, const Ensemble3Options& options, bo
   warn_stalled("funnel ensemble", Space::ThreeD, r.stalled, r.samples,
                per_sample ? "\"stalled\" for each sample" : "the count \"stalled\"; each sample's with --per-sample",
                params.max_ode_steps);
+  warn_capped("funnel ensemble", r.capped, r.samples, params.max_collisions);
 }
 
 }  // namespace funnel::cli

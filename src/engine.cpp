@@ -134,6 +134,7 @@ class Run {
       return true;
     }
     if (out_.collisions >= params_.max_collisions) {
+      out_.capped = true;
       end(Status::Trapped, time_);
       return true;
     }

@@ -88,6 +88,7 @@ class Run3 {
       return;
     }
     if (out_.collisions >= params_.max_collisions) {
+      out_.capped = true;
       end(Status::Trapped, time_);
       return;
     }

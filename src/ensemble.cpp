@@ -93,6 +93,8 @@ void add(ChunkStats& s, const Trajectory& t) {
   s.exited += t.status == Status::Exited;
   s.rest += t.status == Status::Rest;
   s.trapped += t.status == Status::Trapped;
+  s.capped += t.capped;
+  s.stalled += t.stalled;
   s.total_collisions += t.collisions;
 }
 
@@ -102,6 +104,8 @@ void merge(ChunkStats& s, const ChunkStats& o) {
   s.exited += o.exited;
   s.rest += o.rest;
   s.trapped += o.trapped;
+  s.capped += o.capped;
+  s.stalled += o.stalled;
   s.total_collisions += o.total_collisions;
   s.simulated_collisions += o.simulated_collisions;
   s.wear.merge(o.wear);
@@ -114,6 +118,8 @@ EnsembleResult to_result(const ChunkStats& s, std::int64_t samples) {
   r.exited = s.exited;
   r.rest = s.rest;
   r.trapped = s.trapped;
+  r.capped = s.capped;
+  r.stalled = s.stalled;
   r.total_collisions = s.total_collisions;
   r.simulated_collisions = s.simulated_collisions;
   r.wear = s.wear;

@@ -20,7 +20,7 @@ constexpr std::int64_t balls_per_task = 128;
 
 struct BlockStats3 {
   std::array<Accumulator, observable_count_3d> acc;
-  std::int64_t exited = 0, rest = 0, trapped = 0, periodic = 0, stalled = 0, total_collisions = 0, ode_steps = 0;
+  std::int64_t exited = 0, rest = 0, trapped = 0, periodic = 0, stalled = 0, capped = 0, total_collisions = 0, ode_steps = 0;
 
   void add(const Trajectory3& t) {
     for (const ObservableInfo& o : observables_3d()) {
@@ -32,6 +32,7 @@ struct BlockStats3 {
     trapped += t.status == Status::Trapped;
     periodic += t.periodic;
     stalled += t.stalled;
+    capped += t.capped;
     total_collisions += t.collisions;
     ode_steps += t.ode_steps;
   }
@@ -43,6 +44,7 @@ struct BlockStats3 {
     trapped += o.trapped;
     periodic += o.periodic;
     stalled += o.stalled;
+    capped += o.capped;
     total_collisions += o.total_collisions;
     ode_steps += o.ode_steps;
   }
@@ -56,6 +58,7 @@ struct BlockStats3 {
     r.trapped = trapped;
     r.periodic = periodic;
     r.stalled = stalled;
+    r.capped = capped;
     r.total_collisions = total_collisions;
     r.ode_steps = ode_steps;
     return r;

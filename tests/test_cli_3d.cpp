@@ -130,6 +130,42 @@ TEST_F(Cli, SeededThreeDimensionalEnsemblesRepeatAndReportOrbits) {
   EXPECT_EQ(json::parse(read("d.json"))["orbits"]["max"].get<double>(), 0.0);
 }
 
+TEST_F(Cli, RunsEndedByTheCollisionCapAreCountedAndWarnedOf) {
+  // A trajectory: trapped at its 5th collision, with a warning that names the cap.
+  const Result t = run("trajectory --theta 60 --release 0.3 --max-collisions 5 --out " + path("t.json"));
+  ASSERT_EQ(t.code, 0) << t.output;
+  const json tj = json::parse(read("t.json"));
+  EXPECT_EQ(tj["status"], "trapped");
+  EXPECT_EQ(tj["collisions"], 5);
+  EXPECT_NE(t.output.find("funnel trajectory: warning: the run reached --max-collisions (5) inside the funnel"),
+            std::string::npos) << t.output;
+  // Ensembles (2D, mirror images included; 3D) count them in "capped", among the trapped.
+  for (const std::string space : {"2d", "3d"}) {
+    const Result e = run("ensemble --space " + space + " --theta 60 --samples 100 --max-collisions 50 --out " +
+                         path("e.json"));
+    ASSERT_EQ(e.code, 0) << e.output;
+    const json ej = json::parse(read("e.json"));
+    const std::int64_t capped = ej["capped"].get<std::int64_t>();
+    EXPECT_GT(capped, 50) << space;
+    EXPECT_LE(capped, ej["status_counts"]["trapped"].get<std::int64_t>()) << space;
+    EXPECT_EQ(ej["stalled"], 0) << space;
+    EXPECT_NE(e.output.find("funnel ensemble: warning: " + std::to_string(capped) +
+                            " of 100 runs reached --max-collisions (50) inside the funnel"),
+              std::string::npos) << space << e.output;
+    EXPECT_NE(e.output.find("A higher --max-collisions lets them go on"), std::string::npos) << e.output;
+  }
+  // A sweep sums them over the points it computed.
+  const Result s = run("sweep --theta 50,60 --samples 10 --max-collisions 50 --out " + path("s.csv"));
+  ASSERT_EQ(s.code, 0) << s.output;
+  EXPECT_NE(s.output.find("funnel sweep: warning: 20 of 20 runs reached --max-collisions (50)"), std::string::npos)
+      << s.output;
+  // Under the default cap: no count, no warning.
+  const Result plain = run("ensemble --theta 60 --samples 100 --out " + path("p.json"));
+  ASSERT_EQ(plain.code, 0) << plain.output;
+  EXPECT_EQ(json::parse(read("p.json"))["capped"], 0);
+  EXPECT_EQ(plain.output.find("warning"), std::string::npos) << plain.output;
+}
+
 TEST_F(Cli, ARunStoppedByTheStepGuardIsFlaggedStalledAndWarnedOf) {
   // A ball hovering at the limit of rolling on an 86-degree cone (docs/robustness.md, finding 22):
   // with the default guard its contact takes 2e7 integrator steps, about 20 s.

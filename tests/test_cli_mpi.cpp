@@ -75,12 +75,15 @@ TEST_F(Mpi, SweepEnsembleAndPaperGiveTheBytesOfOneProcessForAnyRanksAndThreads) 
   // halving, per-sample outputs, random releases with a wear record. The sweep's mu descends, so
   // the order the points are dealt in (friction_order) is not the grid's.
   const std::string sweep = "sweep --theta 30:70:10 --mu 0.5,0 --samples 300 --out ";
-  const std::string line = "ensemble --theta 47 --samples 1001 --per-sample --out ";
+  // (--max-collisions: a count of runs the cap ended, which the ranks' chunks carry too.)
+  const std::string line = "ensemble --theta 47 --samples 1001 --per-sample --max-collisions 150 --out ";
   const std::string random =
       "ensemble --theta 55 --samples 2000 --release-dist uniform --velocity-sd 0.05 --seed 7 --wear-bins 5 --out ";
   const std::string paper = "paper --quick --only fig02,fig03,fig07 --no-plots --out ";
   ASSERT_EQ(run(sweep + path("one.csv") + " --threads 2").code, 0);
   ASSERT_EQ(run(line + path("one_line.json") + " --threads 2").code, 0);
+  ASSERT_NE(read("one_line.json").find("\"capped\": "), std::string::npos);
+  EXPECT_EQ(read("one_line.json").find("\"capped\": 0,"), std::string::npos);  // some runs capped
   ASSERT_EQ(run(random + path("one_random.csv") + " --format csv --threads 2").code, 0);
   ASSERT_EQ(run(paper + path("one_paper") + " --threads 2").code, 0);
   const std::string wear = read("one_random.csv");

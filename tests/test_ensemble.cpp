@@ -173,6 +173,50 @@ TEST(Ensemble, MirrorHalvingGivesExactlyTheDirectSimulationOfEverySample) {
   }
 }
 
+TEST(Ensemble, RunsEndedByTheCollisionCapAreCountedAmongTheTrappedMirrorImagesIncluded) {
+  // At 60 degrees a trajectory makes about 200 collisions: a cap of 40 ends most of them inside
+  // the funnel, at the collision that reaches it, as trapped with their observables cut short.
+  Params p = default_params();
+  p.theta = 60.0;
+  p.max_collisions = 40;
+  const Geometry g = make_geometry(p);
+  for (const std::int64_t n : {201, 200}) {  // mirror halving, with and without a middle sample
+    const EnsembleResult r = run_ensemble(p, EnsembleOptions{n, ReleaseDist::Line, 2, true});
+    std::int64_t capped = 0;
+    for (std::int64_t k = 0; k < n; ++k) {
+      const Trajectory& t = r.per_sample[static_cast<std::size_t>(k)].trajectory;
+      const Trajectory direct = simulate_release(p, g, release_fraction(ReleaseDist::Line, k, n));
+      EXPECT_EQ(t.capped, direct.capped) << k;
+      if (!t.capped) continue;
+      ++capped;
+      EXPECT_EQ(t.status, Status::Trapped) << k;
+      EXPECT_EQ(t.collisions, 40) << k;
+      EXPECT_LT(t.duration, 60.0) << k;  // far short of t_max
+    }
+    EXPECT_EQ(r.capped, capped);
+    EXPECT_GT(capped, n / 2);
+    EXPECT_LE(r.capped, r.trapped);
+    EXPECT_EQ(r.stalled, 0);
+    // The same counts on one thread, and without the samples kept.
+    const EnsembleResult one = run_ensemble(p, EnsembleOptions{n, ReleaseDist::Line, 1, false});
+    EXPECT_EQ(one.capped, capped);
+    EXPECT_EQ(one.trapped, r.trapped);
+  }
+  // Runs that end otherwise are not capped: exits under the default cap, and a closed funnel's
+  // runs still bouncing at the time cap.
+  Params free = default_params();
+  free.theta = 60.0;
+  const EnsembleResult exits = run_ensemble(free, EnsembleOptions{101, ReleaseDist::Line, 2, false});
+  EXPECT_EQ(exits.exited, 101);
+  EXPECT_EQ(exits.capped, 0);
+  Params closed = free;
+  closed.gap = 0.0;
+  closed.t_max = 5.0;
+  const EnsembleResult held = run_ensemble(closed, EnsembleOptions{101, ReleaseDist::Line, 2, false});
+  EXPECT_GT(held.trapped, 0);
+  EXPECT_EQ(held.capped, 0);
+}
+
 TEST(Ensemble, FrictionlessEnsemblesDoNotDependOnBeta0) {
   // `funnel paper` runs mu = 0 once for every beta0 (Figs. 3-5's three panels share that curve):
   // without friction beta0 must change no bit of any sample. Covered here: collapses (5 deg),

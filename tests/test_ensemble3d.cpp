@@ -88,6 +88,31 @@ TEST(Ensemble3d, ResultsAreBitIdenticalForAnyThreadCount) {
   EXPECT_GT(a.ode_steps, 0);  // integrated contacts are part of it
 }
 
+TEST(Ensemble3d, RunsEndedByTheCollisionCapAreCountedAmongTheTrapped) {
+  Params p = default_params();
+  p.theta = 60.0;
+  p.max_collisions = 40;
+  Ensemble3Options o;
+  o.samples = 48;
+  o.velocity_sd = 0.05;
+  o.seed = 17;
+  o.threads = 2;
+  o.keep_samples = true;
+  const Ensemble3Result r = run_ensemble_3d(p, o);
+  std::int64_t capped = 0;
+  for (const Sample3& s : r.per_sample) {
+    if (!s.trajectory.capped) continue;
+    ++capped;
+    EXPECT_EQ(s.trajectory.status, Status::Trapped);
+    EXPECT_EQ(s.trajectory.collisions, 40);
+  }
+  EXPECT_EQ(r.capped, capped);
+  EXPECT_GT(capped, 24);
+  EXPECT_LE(r.capped, r.trapped);
+  p.max_collisions = default_params().max_collisions;
+  EXPECT_EQ(run_ensemble_3d(p, o).capped, 0);
+}
+
 TEST(Ensemble3d, OnePoolOverSeveralVelocitySpreadsGivesEachEnsembleBitForBit) {
   Params p = default_params();
   p.theta = 46.0;

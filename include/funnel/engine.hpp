@@ -76,6 +76,7 @@ struct Trajectory {
   double contact_time = 0.0;        ///< total time in sustained contact, faces and edges
   bool stopped = false;             ///< ended early by EventSink::finished() (status Trapped)
   bool stalled = false;             ///< ended by the Zeno guard in an open funnel (status Trapped); never expected
+  bool capped = false;              ///< ended by the collision cap max_collisions inside the funnel (status Trapped)
   /// Friction reached its Coulomb limit somewhere (a sliding collision or a sliding phase of a
   /// face contact), or the run had an edge contact: the run may depend on mu. When false, the
   /// same release gives this very trajectory, bit for bit, for every larger mu (docs/model.md

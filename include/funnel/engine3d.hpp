@@ -73,6 +73,7 @@ struct Trajectory3 {
   /// Params::max_ode_steps steps (the stick-slip of docs/robustness.md, finding 22) or 100 000
   /// phases, or 1000 events in a row took no time. The CLI warns of it; outputs say `stalled`.
   bool stalled = false;
+  bool capped = false;              ///< ended by the collision cap max_collisions inside the funnel (status Trapped)
   State3 final_state;               ///< state when the run ended
   State3 exit_state;                ///< state at the exit level (status Exited only)
 };

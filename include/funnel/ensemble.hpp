@@ -83,6 +83,8 @@ struct EnsembleResult {
   std::int64_t samples = 0;
   std::array<Summary, observable_count> stats{};   ///< every observable; exit ones over the exited samples
   std::int64_t exited = 0, rest = 0, trapped = 0;  ///< count of each status
+  std::int64_t capped = 0;   ///< ended by the collision cap inside the funnel (Trajectory::capped; among `trapped`)
+  std::int64_t stalled = 0;  ///< ended by the Zeno guard (Trajectory::stalled; among `trapped`)
   std::int64_t total_collisions = 0;               ///< summed over the samples
   std::int64_t simulated_collisions = 0;           ///< collisions actually computed (mirror halving)
   Wear wear;                                       ///< per-sample mean wear (options.wear_bins > 0)
@@ -112,6 +114,7 @@ std::int64_t chunk_count(std::int64_t samples);
 struct ChunkStats {
   std::array<Accumulator, observable_count> acc{};  ///< per observable, samples in index order (exit ones: exited only)
   std::int64_t exited = 0, rest = 0, trapped = 0;   ///< status counts, mirror images included
+  std::int64_t capped = 0, stalled = 0;             ///< among `trapped`: the collision cap, the Zeno guard
   std::int64_t total_collisions = 0;                ///< collisions of the chunk's samples and their mirror images
   std::int64_t simulated_collisions = 0;            ///< collisions actually computed (mirror halving)
   Wear wear;                                        ///< summed wear record, not yet per sample (wear_bins > 0)

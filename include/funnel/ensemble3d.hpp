@@ -47,6 +47,7 @@ struct Ensemble3Result {
   std::int64_t exited = 0, rest = 0, trapped = 0;  ///< count of each status
   std::int64_t periodic = 0;          ///< trapped by a conservative contact repeating forever (among `trapped`)
   std::int64_t stalled = 0;           ///< trapped by a guard before the time cap (Trajectory3::stalled; among `trapped`)
+  std::int64_t capped = 0;            ///< ended by the collision cap inside the funnel (Trajectory3::capped; among `trapped`)
   std::int64_t total_collisions = 0;  ///< summed over the samples
   std::int64_t ode_steps = 0;         ///< integrator steps of the sustained contacts, summed
   std::vector<Sample3> per_sample;    ///< filled when keep_samples

@@ -209,6 +209,29 @@ def _warn_stalled(stalled, runs, where):
                       StalledWarning, stacklevel=3)
 
 
+class CappedWarning(RuntimeWarning):
+    """Some runs reached the collision cap ``max_collisions`` inside the funnel (status trapped):
+    their duration, impulse and energy loss stop there, short of ``t_max``."""
+
+
+def _warn_capped(capped, runs, cap, stacklevel=3):
+    """Warns (CappedWarning) when ``capped`` of ``runs`` runs reached the collision cap ``cap``
+    inside the funnel, as the CLI does on stderr."""
+    if capped:
+        what = "the run reached" if runs == 1 else f"{capped} of {runs} runs reached"
+        whose = "its" if runs == 1 else "their"
+        warnings.warn(f"{what} max_collisions ({cap}) inside the funnel: {whose} status is trapped and {whose} "
+                      "duration, impulse and energy loss stop at the cap, short of the time cap t_max. A higher "
+                      f"max_collisions lets {'it' if runs == 1 else 'them'} go on", CappedWarning, stacklevel=stacklevel)
+
+
+def _warn_capped_run(result):
+    """The CappedWarning of one trajectory's result: trapped with max_collisions collisions (a
+    run ends at the collision that reaches the cap, and only there with that many)."""
+    cap = int(result["params"]["max_collisions"])
+    _warn_capped(int(result["status"] == "trapped" and result["collisions"] >= cap), 1, cap, stacklevel=4)
+
+
 def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **model):
     """Simulate one trajectory released at x0 = release * L.
 
@@ -282,11 +305,13 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
         if events:
             _text_columns(result["events"], ("kind", "regime"))
         _warn_stalled(int(result["stalled"]), 1, "'stalled' in the result")
+        _warn_capped_run(result)
         return result
     result = core.simulate(_model("simulate", model), _scalar("release", release), _flag("events", events),
                            _wear_bins(wear_bins), _geometry(geometry))
     if events:
         _text_columns(result["events"], ("kind", "wall", "regime"))
+    _warn_capped_run(result)
     return result
 
 
@@ -413,6 +438,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
             _text_columns(result["per_sample"], ("status",))
         _warn_stalled(result["stalled"], result["samples"],
                       "'stalled' for each sample" if per_sample else "the count 'stalled'; each sample's with per_sample")
+        _warn_capped(result["capped"], result["samples"], int(result["params"]["max_collisions"]))
         return result
     release_dist = "line" if release_dist is None else release_dist
     release, release_sd = _gaussian(str(release_dist), release, release_sd)
@@ -423,6 +449,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
                            _progress_callback(progress, "ensemble"), _geometry(geometry))
     if per_sample:
         _text_columns(result["per_sample"], ("status",))
+    _warn_capped(result["capped"], result["samples"], int(result["params"]["max_collisions"]))
     return result
 
 

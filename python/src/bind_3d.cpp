@@ -138,6 +138,7 @@ void put_summaries_3d(py::dict& d, const funnel::Ensemble3Result& r) {
   d["status_counts"] = counts;
   d["periodic"] = r.periodic;
   d["stalled"] = r.stalled;
+  d["capped"] = r.capped;
   d["total_collisions"] = r.total_collisions;
   d["ode_steps"] = r.ode_steps;
 }

@@ -370,6 +370,8 @@ py::dict ensemble(const std::map<std::string, double>& model, std::int64_t sampl
   counts["rest"] = r.rest;
   counts["trapped"] = r.trapped;
   d["status_counts"] = counts;
+  d["stalled"] = r.stalled;
+  d["capped"] = r.capped;
   d["total_collisions"] = r.total_collisions;
   d["simulated_collisions"] = r.simulated_collisions;
   if (wear_bins > 0) d["wear"] = wear_dict(r.wear);

@@ -1,5 +1,6 @@
 """The Python API against the command line (same numbers, bit for bit), its errors, its arrays."""
 
+import contextlib
 import csv
 import math
 
@@ -40,7 +41,10 @@ TRAJECTORY_CASES = [
 
 @pytest.mark.parametrize("case", TRAJECTORY_CASES)
 def test_simulate_matches_cli(cli, case):
-    py = funnel.simulate(release=case["release"], events=True, **case["model"])
+    # The case with a cap of 7 collisions ends there, inside the funnel, which is warned of.
+    capped = "max_collisions" in case["model"]
+    with pytest.warns(funnel.CappedWarning) if capped else contextlib.nullcontext():
+        py = funnel.simulate(release=case["release"], events=True, **case["model"])
     ref = cli("trajectory", "--release", repr(case["release"]), "--events", *cli_options(case["model"]))
     assert py["params"] == ref["params"]
     for key in ("release", "x0", "y0") + TRAJECTORY_KEYS:
@@ -287,3 +291,23 @@ def test_mirror_release_gives_mirror_trajectory():
     b = funnel.simulate(release=-0.37, theta=52, events=True)
     assert a["duration"] == b["duration"] and a["collisions"] == b["collisions"]
     np.testing.assert_array_equal(a["events"]["x"], -b["events"]["x"])
+
+
+def test_runs_ended_by_the_collision_cap_are_counted_and_warn():
+    # A trajectory trapped at its 5th collision, far short of t_max: said, as the CLI says it.
+    with pytest.warns(funnel.CappedWarning, match=r"^the run reached max_collisions \(5\) inside the funnel"):
+        r = funnel.simulate(release=0.3, theta=60, max_collisions=5)
+    assert r["status"] == "trapped" and r["collisions"] == 5 and r["duration"] < 10
+    with pytest.warns(funnel.CappedWarning, match=r"^the run reached max_collisions \(5\)"):
+        funnel.simulate(release=0.3, theta=60, max_collisions=5, space="3d")
+    # Ensembles count them among the trapped (2D: mirror images included), as the CLI's JSON.
+    for space in ("2d", "3d"):
+        with pytest.warns(funnel.CappedWarning, match=r"^\d+ of 100 runs reached max_collisions \(50\)") as caught:
+            e = funnel.ensemble(samples=100, theta=60, max_collisions=50, space=space)
+        assert 50 < e["capped"] <= e["status_counts"]["trapped"], space
+        assert e["stalled"] == 0
+        assert str(caught[0].message).startswith(f"{e['capped']} of 100 runs"), space
+    # Under the default cap: none, and no warning (pyproject turns warnings into errors).
+    e = funnel.ensemble(samples=100, theta=60)
+    assert e["capped"] == 0 and e["status_counts"]["exited"] == 100
+    assert funnel.simulate(release=0.3, theta=60)["status"] == "exited"

@@ -157,6 +157,8 @@ nlohmann::ordered_json ensemble_json(const EnsembleResult& r) {
     if (o.summarized) j[std::string(o.name)] = summary_json(reported(r, o));
   }
   j["status_counts"] = {{"exited", r.exited}, {"rest", r.rest}, {"trapped", r.trapped}};
+  j["stalled"] = r.stalled;
+  j["capped"] = r.capped;
   j["total_collisions"] = r.total_collisions;
   j["simulated_collisions"] = r.simulated_collisions;
   if (r.wear.bins > 0) j["wear"] = wear_json(r.wear);
