@@ -4,6 +4,8 @@
 
 #include <omp.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -316,6 +318,91 @@ TEST(Wear, ASlideSpreadsItsImpulseOverTheBinsItCrosses) {
   const double s_start = (start_height - g.y_face_end) / g.sin_t;
   const auto last = static_cast<std::size_t>(std::floor(s_start / w.bin_width));
   for (std::size_t k = 0; k < last; ++k) EXPECT_GT(w[Wall::Left].normal_impulse[k], 0.0) << k;
+}
+
+TEST(Wear, EachCollisionLandsInTheBinOfItsDistanceUpItsOwnWall) {
+  // An asymmetric V: its walls differ in length, so each has its own bin width (the wall's
+  // length up to the release height over the number of bins). Rebuilt from the event log.
+  Params p = params_with(50.0, 0.9, 0.5, 0.0);
+  p.theta_left = 35.0;
+  p.theta_right = 70.0;
+  const Funnel fn = make_funnel(p);
+  constexpr int bins = 12;
+  std::array<double, 2> width{};
+  for (int i = 0; i < 2; ++i) {
+    const Side& sd = fn.sides[static_cast<std::size_t>(i)];
+    width[static_cast<std::size_t>(i)] = (fn.y_release - sd.corners[0].point.y) / sd.faces[0].sin_a / bins;
+  }
+  ASSERT_GT(width[0], 1.2 * width[1]);  // the shallower left wall is the longer one
+  std::array<std::vector<double>, 2> used{std::vector<double>(bins), std::vector<double>(bins)};
+  for (const double f : {-0.85, -0.5, -0.15, 0.2, 0.55, 0.9}) {
+    Wear w = Wear::make(fn, bins);
+    EventLog log;
+    simulate_release(p, fn, f, &log, &w);
+    std::array<std::vector<double>, 2> expected{std::vector<double>(bins), std::vector<double>(bins)};
+    for (const Event& e : log.events) {
+      if (e.kind != EventKind::Face) continue;
+      const auto i = static_cast<std::size_t>(*e.wall == Wall::Left ? 0 : 1);
+      const Face& face = fn.sides[i].faces[0];
+      const double s = dot(e.position - face.low, face.up);  // distance up the wall
+      const double k = std::clamp(std::floor(s / width[i]), 0.0, static_cast<double>(bins - 1));
+      expected[i][static_cast<std::size_t>(k)] += 1.0;
+      used[i][static_cast<std::size_t>(k)] = 1.0;
+    }
+    EXPECT_EQ(w[Wall::Left].collisions, expected[0]) << f;
+    EXPECT_EQ(w[Wall::Right].collisions, expected[1]) << f;
+  }
+  // Both walls were hit along much of their length.
+  EXPECT_GE(std::count(used[0].begin(), used[0].end(), 1.0), 4);
+  EXPECT_GE(std::count(used[1].begin(), used[1].end(), 1.0), 4);
+}
+
+TEST(Wear, AFacePhaseSpendsInEachBinTheTimeOfItsClosedFormMotion) {
+  // A phase that slides up the face, turns and slides down past its start: s(t) = s0 - v t - a t^2/2
+  // with v < 0. The time it spends in each bin is found from the closed form (the crossings of
+  // the bin boundaries, roots of a quadratic); the contact's normal impulse there is cos(theta)
+  // times that time, its total impulse hypot(cos(theta), F) times it.
+  const Params p = params_with(30.0, 0.5, 0.3, 0.0);
+  const Funnel fn = make_funnel(p);
+  constexpr int bins = 10;
+  Wear w = Wear::make(fn, bins);
+  const double width = w.widths[0];
+  FacePhase ph;
+  ph.start = 5.3 * width;
+  ph.speed = -1.2;
+  ph.accel = 0.9;
+  ph.force = 0.2;
+  const double s_end = 1.4 * width;
+  // 0.45 t^2 - 1.2 t - (start - s_end) = 0.
+  ph.duration = (1.2 + std::sqrt(1.44 + 4.0 * 0.45 * (ph.start - s_end))) / 0.9;
+  const auto s_at = [&](double t) { return ph.start - ph.speed * t - 0.5 * ph.accel * t * t; };
+  ASSERT_LT(s_at(-ph.speed / ph.accel), (bins - 0.5) * width);  // the highest point is on the wall
+  const double cos_t = fn.sides[0].faces[0].cos_a;
+  w.add_face_phase(Wall::Left, ph, cos_t, 0.0);
+  std::vector<double> cuts{0.0, ph.duration};
+  for (int j = 1; j < bins; ++j) {
+    const double c = j * width - ph.start;  // 0.45 t^2 - 1.2 t + c = 0
+    const double disc = 1.44 - 4.0 * 0.45 * c;
+    if (disc <= 0.0) continue;
+    for (const double t : {(1.2 - std::sqrt(disc)) / 0.9, (1.2 + std::sqrt(disc)) / 0.9}) {
+      if (t > 0.0 && t < ph.duration) cuts.push_back(t);
+    }
+  }
+  std::sort(cuts.begin(), cuts.end());
+  std::vector<double> time(bins, 0.0);
+  for (std::size_t m = 0; m + 1 < cuts.size(); ++m) {
+    const auto k = static_cast<std::size_t>(std::floor(s_at(0.5 * (cuts[m] + cuts[m + 1])) / width));
+    time[k] += cuts[m + 1] - cuts[m];
+  }
+  ASSERT_EQ(cuts.size(), 2u + 4u + 8u);  // up through bins 5..9, down through 9..1
+  for (int k = 0; k < bins; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    EXPECT_NEAR(w[Wall::Left].normal_impulse[kk], cos_t * time[kk], 1e-12) << k;
+    EXPECT_NEAR(w[Wall::Left].impulse[kk], std::hypot(cos_t, ph.force) * time[kk], 1e-12) << k;
+    EXPECT_EQ(w[Wall::Right].impulse[kk], 0.0);
+  }
+  EXPECT_EQ(time[0], 0.0);
+  EXPECT_GT(time[9], 0.0);
 }
 
 TEST(Wear, EnsembleWearIsThePerSampleMeanAndMirrorSymmetric) {

@@ -108,6 +108,43 @@ TEST(Engine, MirrorReleaseGivesMirrorTrajectory) {
   }
 }
 
+TEST(Engine, MirrorReleaseGivesTheMirrorEventLogEdgeContactsIncluded) {
+  // Every logged quantity of every event mirrors, the friction impulses of contacts with the
+  // outlet's edges too (the right wall's edge contact is solved in its mirror image, and its
+  // tangential impulse turned back). j_t is along t = (n_y, -n_x) of each wall's own normal,
+  // which mirrors to -t: the mirror event has -j_t.
+  int edge_contacts = 0, face_collisions = 0;
+  // Shallow funnels and little bounce: balls slide down to the outlet slowly enough to roll over
+  // its edge.
+  for (const double theta : {5.0, 8.0, 12.0}) {
+    for (const double e : {0.0, 0.2}) {
+      for (const double x0 : {0.1, 0.3, 0.5, 0.7, 0.9}) {
+        const Params p = params_with(theta, e, 0.4, 0.31);
+        const Geometry g = make_geometry(p);
+        EventLog a, b;
+        simulate_release(p, g, x0, &a);
+        simulate_release(p, g, -x0, &b);
+        ASSERT_EQ(a.events.size(), b.events.size());
+        for (std::size_t i = 0; i < a.events.size(); ++i) {
+          const Event& ea = a.events[i];
+          const Event& eb = b.events[i];
+          ASSERT_EQ(ea.kind, eb.kind);
+          EXPECT_EQ(ea.regime, eb.regime);
+          EXPECT_EQ(ea.j_n, eb.j_n);
+          EXPECT_EQ(ea.j_t, 0.0 - eb.j_t) << theta << " " << e << " " << x0 << " event " << i << " "
+                                         << to_string(ea.kind);
+          EXPECT_EQ(ea.energy_lost, eb.energy_lost);
+          EXPECT_EQ(ea.slip_before, 0.0 - eb.slip_before);
+          edge_contacts += ea.kind == EventKind::EdgeContactEnd && ea.j_t != 0.0;
+          face_collisions += ea.kind == EventKind::Face && ea.j_t != 0.0;
+        }
+      }
+    }
+  }
+  EXPECT_GT(edge_contacts, 5);
+  EXPECT_GT(face_collisions, 50);
+}
+
 TEST(Engine, EnergyLossEqualsSumOfCollisionAndContactLosses) {
   int with_contacts = 0;
   for (const double theta : {15.0, 35.0, 50.0, 70.0}) {
