@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "test_util.hpp"
 
@@ -72,6 +73,32 @@ TEST(Contact, SteepFaceSlidesWithKineticFriction) {
   const double ke = 0.5 * dot(r.end.v, r.end.v) + 0.5 * s.m.kappa * s.m.radius * s.m.radius * r.end.omega * r.end.omega;
   EXPECT_TRUE(near(r.energy_lost, (y0 - s.g.y_face_end) - ke, 1e-12));
   EXPECT_GT(r.energy_lost, 0.0);
+}
+
+TEST(Contact, StaticFrictionHoldsRollingExactlyUpToItsClosedFormSlope) {
+  // From rest a ball rolls down a face while tan(theta) <= mu (1 + kappa) / kappa (the friction
+  // rolling needs, kappa/(1 + kappa) g sin, within mu g cos), and slides beyond it: half a
+  // degree either side of that slope, for several mu and moments of inertia.
+  for (const double kappa : {0.4, 0.2, 2.0 / 3.0}) {
+    for (const double mu : {0.1, 0.2, 0.5}) {
+      const double critical = std::atan(mu * (1.0 + kappa) / kappa) * 180.0 / std::numbers::pi;
+      ASSERT_LT(critical, 80.0);
+      for (const double theta : {critical - 0.5, critical + 0.5}) {
+        const Incline s = incline(theta, mu, kappa);
+        const ContactResult r = slide_on_face(on_left_face(s.g, 0.6, 0.0, 0.0), s.f.sides[0].faces[0], -1.0, s.m);
+        const bool rolls = theta < critical;
+        EXPECT_EQ(r.first_regime, rolls ? Regime::Rolling : Regime::Sliding) << kappa << " " << mu << " " << theta;
+        EXPECT_EQ(r.slid, !rolls) << kappa << " " << mu << " " << theta;
+        // Rolling loses nothing; sliding loses mu N times the distance the contact point slips,
+        // which grows at sin - mu cos (1 + 1/kappa) while the centre speeds up at sin - mu cos.
+        const double length = (0.6 - s.g.y_face_end) / s.g.sin_t;
+        const double sin_t = s.g.sin_t, cos_t = s.g.cos_t;
+        const double slipped = length * (sin_t - mu * cos_t * (1.0 + 1.0 / kappa)) / (sin_t - mu * cos_t);
+        EXPECT_TRUE(near(r.energy_lost, rolls ? 0.0 : mu * cos_t * slipped, 1e-10, 1e-14))
+            << kappa << " " << mu << " " << theta << " " << r.energy_lost;
+      }
+    }
+  }
 }
 
 TEST(Contact, SlipDecaysThenRollsAndEnergyBalances) {
