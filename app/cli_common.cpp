@@ -219,7 +219,7 @@ void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool
                    "summary); integer 0 <= N <= 10^6 (default 0: none)")
         ->type_name("N");
   }
-  app.add_option("--threads", text.threads, "worker threads; integer >= 1, or 0 = all cores (default 0)")
+  app.add_option("--threads", text.threads, "worker threads; integer 1 to 1024, or 0 = all cores (default 0)")
       ->type_name("T");
 }
 

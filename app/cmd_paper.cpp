@@ -270,7 +270,7 @@ void add_paper_command(CLI::App& app, const std::string& command_line) {
       ->type_name("FIGS");
   sub->add_flag("--quick", cmd->quick, "coarse grids and few samples: a preview in well under a minute");
   sub->add_flag("--no-plots", cmd->no_plots, "write the data only, do not call the Python plotting module");
-  sub->add_option("--threads", cmd->threads, "worker threads; integer >= 1, or 0 = all cores (default 0)")->type_name("T");
+  sub->add_option("--threads", cmd->threads, "worker threads; integer 1 to 1024, or 0 = all cores (default 0)")->type_name("T");
   nonempty(sub->add_option("--paper-dir", cmd->paper_dir,
                            "directory of the figure definitions (default: the installation's share/funnel/paper, "
                            "else the source tree's paper/)"),

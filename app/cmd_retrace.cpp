@@ -122,7 +122,7 @@ void add_retrace_command(CLI::App& app, const std::string& command_line) {
   sub->add_option("--turns", cmd->turns,
                   "which turns: wall (a perpendicular hit, default) or wall,rest (also a vertical rise to a second rest point)")
       ->type_name("TURNS");
-  sub->add_option("--threads", cmd->threads, "worker threads over the angles; integer >= 1, or 0 = all cores (default 0)")
+  sub->add_option("--threads", cmd->threads, "worker threads over the angles; integer 1 to 1024, or 0 = all cores (default 0)")
       ->type_name("T");
   sub->add_flag("--windows", cmd->windows_csv, "with --format csv: the existence and stability windows instead of the orbits");
   add_output_options(*sub, cmd->format, cmd->out);
