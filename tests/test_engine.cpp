@@ -145,6 +145,44 @@ TEST(Engine, MirrorReleaseGivesTheMirrorEventLogEdgeContactsIncluded) {
   EXPECT_GT(face_collisions, 50);
 }
 
+TEST(Engine, EveryContactsLoggedFrictionImpulseIsItsChangeOfSpin) {
+  // The friction force F acts at the contact point, a from the centre along -n, so its torque is
+  // a F about the centre (F along t = (n_y, -n_x)) whatever n does: over a contact with a face or
+  // over an edge, I (omega_end - omega_start) = a j_t, i.e. delta omega = j_t / (kappa a). An
+  // independent check of the logged j_t (its sign, and its factor while rolling) on both walls.
+  int faces = 0, edges = 0;
+  for (const double theta : {5.0, 8.0, 12.0, 30.0, 80.0}) {
+    for (const double e : {0.0, 0.2}) {
+      for (const double kappa : {0.4, 0.25}) {
+        for (const double x0 : {-0.9, -0.6, -0.3, 0.1, 0.4, 0.7}) {
+          Params p = params_with(theta, e, theta > 50.0 ? 0.1 : 0.4, 0.31);
+          p.inertia = kappa;
+          const Geometry g = make_geometry(p);
+          EventLog log;
+          simulate_release(p, g, x0, &log);
+          const Event* start = nullptr;
+          for (const Event& ev : log.events) {
+            if (ev.kind == EventKind::ContactStart || ev.kind == EventKind::EdgeContactStart) start = &ev;
+            const bool face_end = ev.kind == EventKind::ContactEnd, edge_end = ev.kind == EventKind::EdgeContactEnd;
+            if (!face_end && !edge_end) continue;
+            ASSERT_NE(start, nullptr);
+            // The spin at the contact's end, before a rest sets it to 0 (omega_before of a face
+            // contact's end), against the spin it started with.
+            const double spun = (face_end ? ev.omega_before : ev.omega_after) - start->omega_after;
+            const double expected = ev.j_t / (kappa * p.radius);
+            EXPECT_TRUE(near(spun, expected, 1e-9, 1e-9)) << theta << " " << e << " " << kappa << " " << x0 << " "
+                                                          << to_string(ev.kind) << " " << spun << " " << expected;
+            (face_end ? faces : edges) += ev.j_t != 0.0;
+            start = nullptr;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(faces, 50);
+  EXPECT_GT(edges, 10);
+}
+
 TEST(Engine, EnergyLossEqualsSumOfCollisionAndContactLosses) {
   int with_contacts = 0;
   for (const double theta : {15.0, 35.0, 50.0, 70.0}) {

@@ -306,6 +306,27 @@ TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {
   }
 }
 
+TEST(Profile, ABallThatStopsOnALedgeBooksTheEnergyItHasLeftThereAsLost) {
+  // The hopper's right wall has a level ledge at y = 0.3: balls released above it with little
+  // bounce come to rest on it, at the ledge's height, not the funnel's bottom. The energy each
+  // event books as lost must add up to the drop from the release to where it rests.
+  int resting = 0;
+  for (const double e : {0.0, 0.1, 0.3}) {
+    Params p = with_profile(hopper());
+    p.e = e;
+    const Funnel f = make_funnel(p);
+    for (int k = 0; k < 40; ++k) {
+      const double x = 0.3 + 0.0175 * k;
+      const Trajectory t = simulate_release(p, f, x);
+      EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-9, 1e-12)) << e << " " << x;
+      if (t.status != Status::Rest) continue;
+      ++resting;
+      EXPECT_NEAR(t.final_state.r.y, 0.3 + p.radius, 1e-12) << e << " " << x;  // on the ledge
+    }
+  }
+  EXPECT_GT(resting, 5);
+}
+
 TEST(Profile, BadProfilesAreRejectedNamingTheSideAndTheRule) {
   const Params base = default_params();
   auto error_of = [&](ProfileSpec s) {
