@@ -63,6 +63,31 @@ TEST_F(Cli, WearBinsSumToTheTotalsInJsonAndCsv) {
   expect_rejected(run("trajectory --release 0.1 --wear-bins 3 --events --format csv"), "wear-bins", "events");
 }
 
+TEST_F(Cli, EachWallOfAnAsymmetricFunnelIsBinnedOverItsOwnLength) {
+  // 30 and 70 degrees: the walls are 1/sin(30) = 2 and 1/sin(70) = 1.064 long up to the release
+  // height; each wall's bins, and the positions s of their centres, are its own.
+  const std::string cmd = "ensemble --theta-left 30 --theta-right 70 --samples 40 --wear-bins 10";
+  const json j = parse(run(cmd));
+  const json& w = j["wear"];
+  const double left = 1.0 / std::sin(30.0 * M_PI / 180.0), right = 1.0 / std::sin(70.0 * M_PI / 180.0);
+  EXPECT_NEAR(w["left"]["bin_width"].get<double>() * 10, left, 1e-12);
+  EXPECT_NEAR(w["right"]["bin_width"].get<double>() * 10, right, 1e-12);
+  EXPECT_EQ(w["bin_width"], w["left"]["bin_width"]);
+  EXPECT_NEAR(w["left"]["s"].back().get<double>(), 0.95 * left, 1e-12);
+  EXPECT_NEAR(w["right"]["s"].back().get<double>(), 0.95 * right, 1e-12);
+  // The CSV's s column: the right wall's last bin is centred 0.95 of its own length up.
+  const Result csv = run(cmd + " --format csv");
+  ASSERT_EQ(csv.code, 0) << csv.output;
+  std::istringstream lines(csv.output);
+  std::string line, last_right;
+  while (std::getline(lines, line)) {
+    if (line.rfind("right,9,", 0) == 0) last_right = line;
+  }
+  ASSERT_FALSE(last_right.empty()) << csv.output;
+  const std::string s = last_right.substr(8, last_right.find(',', 8) - 8);
+  EXPECT_NEAR(std::stod(s), 0.95 * right, 1e-12) << last_right;
+}
+
 TEST_F(Cli, TheGaussiansMeanAndSpreadAreRefusedWithAnotherDistribution) {
   // They were ignored: the run looked as asked for and was the plain line's.
   const std::string out = " --out " + path("e.json");

@@ -78,7 +78,8 @@ TEST_F(Mpi, SweepEnsembleAndPaperGiveTheBytesOfOneProcessForAnyRanksAndThreads) 
   // (--max-collisions: a count of runs the cap ended, which the ranks' chunks carry too.)
   const std::string line = "ensemble --theta 47 --samples 1001 --per-sample --max-collisions 150 --out ";
   const std::string random =
-      "ensemble --theta 55 --samples 2000 --release-dist uniform --velocity-sd 0.05 --seed 7 --wear-bins 5 --out ";
+      "ensemble --theta 55 --theta-right 65 --samples 2000 --release-dist uniform --velocity-sd 0.05 --seed 7 "
+      "--wear-bins 5 --out ";  // asymmetric: each wall's own bin width crosses the ranks too
   const std::string paper = "paper --quick --only fig02,fig03,fig07 --no-plots --out ";
   ASSERT_EQ(run(sweep + path("one.csv") + " --threads 2").code, 0);
   ASSERT_EQ(run(line + path("one_line.json") + " --threads 2").code, 0);

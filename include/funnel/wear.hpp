@@ -26,7 +26,7 @@ struct WallWear {
 /// releases) are counted in the last bin.
 struct Wear {
   int bins = 0;              ///< number of bins per wall (0: wear is not recorded)
-  double bin_width = 0.0;    ///< units of H (the left wall's; equal for a symmetric funnel)
+  double bin_width = 0.0;    ///< units of H: the left wall's, widths[0] (each wall's own: widths)
   std::array<WallWear, 2> walls;  ///< indexed by wall: 0 left, 1 right
   std::array<double, 2> widths{};  ///< bin width of each wall, units of H
 

@@ -276,7 +276,8 @@ def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **mo
         ``exit_x`` [H], ``exit_u``, ``exit_v``, ``exit_speed`` [sqrt(gH)], ``exit_angle``
         [degrees from the downward vertical, positive towards +x], ``exit_spin`` [sqrt(g/H)]
         (None unless it exited). With ``wear_bins``: ``wear`` = {"left": {"s", "collisions",
-        "normal_impulse", "impulse" (numpy arrays), "edge": {...}}, "right": ..., "bin_width"}.
+        "normal_impulse", "impulse" (numpy arrays), "edge": {...}, "bin_width"}, "right": ..., "bin_width"}
+        (each wall's own bins; the last bin_width is the left wall's).
         With ``events=True`` also ``events``: a dict of 1-D numpy arrays of equal length, one
         entry per event: time, x, y, u_before, v_before, omega_before, u_after, v_after,
         omega_after, slip_before, j_n, j_t, energy_lost (float64), and kind ("face", "edge",

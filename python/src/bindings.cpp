@@ -226,7 +226,9 @@ py::dict wear_dict(const funnel::Wear& w) {
     const funnel::WallWear& ww = w[wall];
     const auto n = static_cast<std::size_t>(w.bins);
     py::dict side;
-    side["s"] = column<double>(n, [&](std::size_t k) { return (static_cast<double>(k) + 0.5) * w.bin_width; });
+    const double width = w.widths[wall == funnel::Wall::Left ? 0 : 1];  // each wall's own bins
+    side["s"] = column<double>(n, [&](std::size_t k) { return (static_cast<double>(k) + 0.5) * width; });
+    side["bin_width"] = width;
     side["collisions"] = column<double>(n, [&](std::size_t k) { return ww.collisions[k]; });
     side["normal_impulse"] = column<double>(n, [&](std::size_t k) { return ww.normal_impulse[k]; });
     side["impulse"] = column<double>(n, [&](std::size_t k) { return ww.impulse[k]; });

@@ -43,6 +43,16 @@ def test_wear_arrays_sum_to_the_totals():
     assert normal == pytest.approx(e["normal_impulse"]["mean"], rel=1e-12)
 
 
+def test_each_wall_of_an_asymmetric_funnel_is_binned_over_its_own_length():
+    # 30 and 70 degrees: walls 1/sin(30) and 1/sin(70) long up to the release height.
+    w = funnel.ensemble(samples=40, theta_left=30, theta_right=70, wear_bins=10)["wear"]
+    for side, angle in (("left", 30), ("right", 70)):
+        length = 1 / math.sin(math.radians(angle))
+        assert w[side]["bin_width"] * 10 == pytest.approx(length, rel=1e-12), side
+        assert w[side]["s"][-1] == pytest.approx(0.95 * length, rel=1e-12), side
+    assert w["bin_width"] == w["left"]["bin_width"]
+
+
 def test_random_ensembles_do_not_depend_on_threads_and_match_the_cli(cli):
     kw = dict(samples=150, release_dist="gaussian", release=0.1, release_sd=0.4, velocity_sd=0.02, seed=11, theta=48)
     a = funnel.ensemble(threads=1, **kw)

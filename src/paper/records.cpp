@@ -170,9 +170,12 @@ nlohmann::ordered_json wear_json(const Wear& w) {
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     const WallWear& ww = w[wall];
     nlohmann::ordered_json side;
+    // Each wall's own bins: the walls of an asymmetric funnel differ in length.
+    const double width = w.widths[wall == Wall::Left ? 0 : 1];
     std::vector<double> s;
-    for (int k = 0; k < w.bins; ++k) s.push_back((k + 0.5) * w.bin_width);
+    for (int k = 0; k < w.bins; ++k) s.push_back((k + 0.5) * width);
     side["s"] = s;
+    side["bin_width"] = width;
     side["collisions"] = ww.collisions;
     side["normal_impulse"] = ww.normal_impulse;
     side["impulse"] = ww.impulse;
@@ -190,9 +193,10 @@ std::string wear_csv(const Wear& w) {
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     const WallWear& ww = w[wall];
     const std::string name(to_string(wall));
+    const double width = w.widths[wall == Wall::Left ? 0 : 1];
     for (int k = 0; k < w.bins; ++k) {
       const auto i = static_cast<std::size_t>(k);
-      text += csv_line({name, std::to_string(k), number((k + 0.5) * w.bin_width), number(ww.collisions[i]),
+      text += csv_line({name, std::to_string(k), number((k + 0.5) * width), number(ww.collisions[i]),
                         number(ww.normal_impulse[i]), number(ww.impulse[i])});
     }
     text += csv_line({name, "edge", "0", number(ww.edge_collisions), number(ww.edge_normal_impulse),
