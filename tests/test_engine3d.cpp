@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -115,6 +116,39 @@ TEST(Engine3d, RotatingTheReleaseAboutTheAxisRotatesTheTrajectory) {
   }
   // The meridian release (w = 0) is solved in closed form, its rotated image by the integrator.
   EXPECT_GT(contacts, 2);
+}
+
+TEST(Engine3d, APeriodicRunGrowsItsImpulsesAndTurnsInProportionToTheTimeCap) {
+  // A ball rolling round the cone for ever (a contact whose radial period repeats, or a cycle
+  // between the face and the rim) is extrapolated to the time cap: every accumulated quantity,
+  // the impulses, the turns about the axis and the contact time, then grows by the same amount
+  // for each further stretch of the cap, and none stands still (the golden 3D cases that end so).
+  struct Case {
+    double theta, release, u, w;
+  };
+  for (const Case& c : {Case{60.0, 0.7, 0.02, 0.03}, Case{50.0, 0.99, 0.05, 0.05}, Case{44.0, 0.99, 0.01, 0.05}}) {
+    std::array<Trajectory3, 3> runs;
+    for (int k = 0; k < 3; ++k) {
+      Params p = default_params();
+      p.theta = c.theta;
+      p.release_u = c.u;
+      p.release_w = c.w;
+      p.t_max = 300.0 * (k + 1);
+      const Cone cone = make_cone(p);
+      runs[static_cast<std::size_t>(k)] = simulate_3d(p, cone, release_state_3d(p, cone, c.release));
+      ASSERT_TRUE(runs[static_cast<std::size_t>(k)].periodic) << c.theta << " " << k;
+    }
+    const auto grows = [&](const char* what, auto get) {
+      const double d1 = get(runs[1]) - get(runs[0]), d2 = get(runs[2]) - get(runs[1]);
+      EXPECT_GT(d1, 0.0) << what << " " << c.theta;
+      EXPECT_TRUE(near(d1, d2, 1e-9)) << what << " " << c.theta << " " << d1 << " " << d2;
+    };
+    grows("impulse", [](const Trajectory3& t) { return t.impulse; });
+    grows("normal_impulse", [](const Trajectory3& t) { return t.normal_impulse; });
+    grows("orbits", [](const Trajectory3& t) { return std::fabs(t.orbits); });
+    grows("contact_time", [](const Trajectory3& t) { return t.contact_time; });
+    EXPECT_TRUE(near(runs[1].contact_time - runs[0].contact_time, 300.0, 1e-12)) << c.theta;
+  }
 }
 
 TEST(Engine3d, MirrorReleaseGivesMirrorTrajectory) {
