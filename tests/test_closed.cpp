@@ -1,9 +1,11 @@
 // Closed funnel long-time states (paper Figs. 11 and 12).
 #include "funnel/closed.hpp"
+#include "funnel/watch.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "test_util.hpp"
 
@@ -65,6 +67,55 @@ TEST(Closed, ShallowFunnelHasNoPeriodicOrbit) {
   // The same detector does fire where the orbit is stable: the check above can fail.
   const ClosedResult steep = run_closed(elastic_closed(60.0, 1.0), {200, ReleaseDist::Line, 0, false}, {});
   EXPECT_GT(steep.periodic, 150);
+}
+
+TEST(Closed, TheOrbitWatchCountsOnlyNoSlipCollisionsAtOneHeightOnAlternateWalls) {
+  // The period-2 orbit's signature, collision by collision: the walls alternate, the contact
+  // point does not slip, the height repeats. Each rule alone breaks the streak.
+  const OrbitTest test{4, 1e-6, 1e-6};
+  auto hit = [](Wall w, double y, double slip) {
+    Event e;
+    e.kind = EventKind::Face;
+    e.wall = w;
+    e.position = {w == Wall::Left ? -0.3 : 0.3, y};
+    e.velocity_before = {0.0, -1.0};
+    e.slip_before = slip;
+    return e;
+  };
+  OrbitWatch alternating(test);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_FALSE(alternating.finished()) << k;
+    alternating.record(hit(k % 2 == 0 ? Wall::Left : Wall::Right, 0.5, 0.0));
+  }
+  EXPECT_FALSE(alternating.finished());  // the first collision has no predecessor to compare
+  alternating.record(hit(Wall::Left, 0.5, 0.0));
+  EXPECT_TRUE(alternating.finished());
+  // The same wall again and again, every other rule passing: never the orbit.
+  OrbitWatch same_wall(test);
+  for (int k = 0; k < 40; ++k) same_wall.record(hit(Wall::Left, 0.5, 0.0));
+  EXPECT_FALSE(same_wall.finished());
+  EXPECT_EQ(same_wall.memory().streak, 0);
+  // A slip, or a change of height, starts the count again.
+  for (const auto& [slip, dy] : {std::pair{1e-3, 0.0}, std::pair{0.0, 1e-3}}) {
+    OrbitWatch w(test);
+    for (int k = 0; k < 40; ++k) {
+      const bool odd = k % 4 == 3;  // every fourth collision breaks a rule: streaks of 3 at most
+      w.record(hit(k % 2 == 0 ? Wall::Left : Wall::Right, 0.5 + (odd ? dy : 0.0), odd ? slip : 0.0));
+      EXPECT_FALSE(w.finished()) << k;
+    }
+  }
+}
+
+TEST(Closed, ThePeriodicFractionIsOverEveryRelease) {
+  // Capped short, some releases are still undecided: the fraction that reached the orbit is
+  // counted over all of them (undecided ones are not periodic), as Figs. 11 and 12 report it.
+  ClosedOptions o;
+  o.max_time = 80.0;  // at 60 degrees about 60% reach the orbit by then, every one by t = 160
+  const ClosedResult r = run_closed(elastic_closed(60.0, 1.0), {200, ReleaseDist::Line, 0, false}, o);
+  ASSERT_GT(r.undecided, 20);
+  ASSERT_GT(r.periodic, 20);
+  EXPECT_EQ(r.periodic + r.rest + r.undecided, 200);
+  EXPECT_EQ(r.periodic_fraction, static_cast<double>(r.periodic) / 200.0);
 }
 
 TEST(Closed, ResultsDoNotDependOnTheThreadCount) {

@@ -339,6 +339,19 @@ TEST(Profile, BadProfilesAreRejectedNamingTheSideAndTheRule) {
   ProfileSpec narrow = hopper();
   narrow.sides[1].back() = {-0.09, -0.3650};  // 0.01 from the left end: narrower than the sphere
   EXPECT_NE(error_of(narrow).find("outlet"), std::string::npos) << error_of(narrow);
+  // Lower ends at different heights, 0.1 apart, but at the higher one's level the right wall is
+  // only 1.5 a away (a = 0.01): the sphere cannot pass there. Widened to 2.5 a it can.
+  for (const double gap_x : {0.005, 0.015}) {
+    ProfileSpec staggered;
+    staggered.sides[0] = {{-1.0, 1.6}, {-0.01, 0.0}};
+    staggered.sides[1] = {{1.0, 1.6}, {gap_x, 0.0}, {gap_x, -0.1}};
+    const std::string said = error_of(staggered);
+    if (gap_x < 0.01) {
+      EXPECT_NE(said.find("outlet"), std::string::npos) << said;
+    } else {
+      EXPECT_EQ(said, "accepted");
+    }
+  }
   ProfileSpec collinear = hopper();
   collinear.sides[0] = {{-2.0, 2.0}, {-1.0, 1.0}, {-0.1, 0.1}};
   EXPECT_NE(error_of(collinear).find("collinear"), std::string::npos) << error_of(collinear);
