@@ -95,6 +95,11 @@ TEST(Closed, TheOrbitWatchCountsOnlyNoSlipCollisionsAtOneHeightOnAlternateWalls)
   for (int k = 0; k < 40; ++k) same_wall.record(hit(Wall::Left, 0.5, 0.0));
   EXPECT_FALSE(same_wall.finished());
   EXPECT_EQ(same_wall.memory().streak, 0);
+  // Heights alternating between two values, walls alternating, no slip: a period-2 motion, but
+  // not the orbit, whose two collisions are at one height (each is compared with the last).
+  OrbitWatch two_heights(test);
+  for (int k = 0; k < 40; ++k) two_heights.record(hit(k % 2 == 0 ? Wall::Left : Wall::Right, k % 2 == 0 ? 0.5 : 0.6, 0.0));
+  EXPECT_FALSE(two_heights.finished());
   // A slip, or a change of height, starts the count again.
   for (const auto& [slip, dy] : {std::pair{1e-3, 0.0}, std::pair{0.0, 1e-3}}) {
     OrbitWatch w(test);
