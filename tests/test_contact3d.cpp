@@ -217,10 +217,16 @@ TEST(Contact3d, CircularOrbitsStayAtTheirHeight) {
   struct Case {
     double mu;
     bool rolling;
+    double kappa;
   };
   double worst = 0.0;
-  for (const Case k : {Case{0.0, false}, Case{10.0, true}}) {
-    const Material m = material_of(k.mu);
+  // Sliding without friction; rolling, a solid sphere and a hollow one (kappa = 2/3: a slower
+  // orbit, v^2 (1 + kappa) = rho tan(theta)).
+  for (const Case k : {Case{0.0, false, 0.4}, Case{10.0, true, 0.4}, Case{10.0, true, 2.0 / 3.0}}) {
+    Params q = default_params();
+    q.mu = k.mu;
+    q.inertia = k.kappa;
+    const Material m = material(q);
     for (const double factor : {1.0, 1.01}) {
       const double speed = factor * (k.rolling ? rolling_orbit_speed(c, rho, m.kappa) : sliding_orbit_speed(c, rho));
       State3 s = on_cone(c, rho, 0.0, 0.0, speed);
@@ -267,6 +273,11 @@ TEST(Contact3d, InAMeridianPlaneTheIntegratedContactMatchesTheClosedForms) {
     EXPECT_TRUE(near(b.energy_lost, a.energy_lost, 1e-9, 1e-12)) << k.theta;
     EXPECT_TRUE(near(b.normal_impulse, a.normal_impulse, 1e-10)) << k.theta;
     EXPECT_TRUE(near(b.impulse, a.impulse, 1e-10)) << k.theta;
+    // The wall's impulse on the ball, v_end - v_start + g t: the same vector both ways, and its
+    // part along the face's normal is the normal impulse.
+    EXPECT_LT(norm(b.contact_impulse - a.contact_impulse), 1e-9 * norm(a.contact_impulse)) << k.theta;
+    const Vec3 n = cone_normal(c, meridian_direction(s.r));
+    EXPECT_TRUE(near(dot(a.contact_impulse, n), a.normal_impulse, 1e-10)) << k.theta;
     EXPECT_EQ(a.last_regime, b.last_regime);
   }
   // Over the rim from C*: rolls or slides round it and takes off (or comes back to the face).

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <cstdint>
 
 #include "funnel/audit3d.hpp"
@@ -149,6 +150,30 @@ TEST(Engine3d, APeriodicRunGrowsItsImpulsesAndTurnsInProportionToTheTimeCap) {
     grows("contact_time", [](const Trajectory3& t) { return t.contact_time; });
     EXPECT_TRUE(near(runs[1].contact_time - runs[0].contact_time, 300.0, 1e-12)) << c.theta;
   }
+}
+
+TEST(Engine3d, TheExitObservablesTurnWithTheRelease) {
+  // Released in the x-y plane, a ball stays in it: it leaves with no z, no w and a spin about z
+  // only. The same release turned a quarter turn about the axis (into the z-y plane) leaves with
+  // its spin about x: exit_spin_x is then what exit_spin was, and exit_spin is 0.
+  Params p = params_with(60.0, 0.99, 1.0, 0.2);
+  const Cone c = make_cone(p);
+  const State3 s = release_state_3d(p, c, 0.4);
+  const Trajectory3 a = simulate_3d(p, c, s);
+  const Trajectory3 b = simulate_3d(p, c, rotate(s, std::numbers::pi / 2.0));
+  ASSERT_EQ(a.status, Status::Exited);
+  ASSERT_EQ(b.status, Status::Exited);
+  const double spin = value(a, Observable::ExitSpin);
+  ASSERT_GT(std::fabs(spin), 0.1);
+  for (const Observable o : {Observable::ExitZ, Observable::ExitW, Observable::ExitSpinX, Observable::ExitSpinY}) {
+    EXPECT_EQ(value(a, o), 0.0) << static_cast<int>(o);
+  }
+  EXPECT_TRUE(near(value(b, Observable::ExitSpinX), spin, 1e-8)) << value(b, Observable::ExitSpinX) << " " << spin;
+  EXPECT_LT(std::fabs(value(b, Observable::ExitSpin)), 1e-8 * std::fabs(spin));
+  EXPECT_LT(std::fabs(value(b, Observable::ExitSpinY)), 1e-8 * std::fabs(spin));
+  EXPECT_TRUE(near(value(b, Observable::ExitZ), -value(a, Observable::ExitX), 1e-8, 1e-12));
+  EXPECT_TRUE(near(value(b, Observable::ExitSpeed), value(a, Observable::ExitSpeed), 1e-8));
+  EXPECT_TRUE(near(value(b, Observable::ExitAngle), value(a, Observable::ExitAngle), 1e-8));
 }
 
 TEST(Engine3d, MirrorReleaseGivesMirrorTrajectory) {
