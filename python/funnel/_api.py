@@ -220,7 +220,8 @@ def _warn_capped(capped, runs, cap, stacklevel=3):
     if capped:
         what = "the run reached" if runs == 1 else f"{capped} of {runs} runs reached"
         whose = "its" if runs == 1 else "their"
-        warnings.warn(f"{what} max_collisions ({cap}) inside the funnel: {whose} status is trapped and {whose} "
+        cap = "" if cap is None else f" ({cap})"  # None: it varies over a sweep's grid
+        warnings.warn(f"{what} max_collisions{cap} inside the funnel: {whose} status is trapped and {whose} "
                       "duration, impulse and energy loss stop at the cap, short of the time cap t_max. A higher "
                       f"max_collisions lets {'it' if runs == 1 else 'them'} go on", CappedWarning, stacklevel=stacklevel)
 
@@ -518,6 +519,7 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release
                                              _scalar("velocity_sd", velocity_sd),
                                              _progress_callback(progress, "sweep")), ("release_dist",))
         _warn_stalled(int(result["stalled"].sum()), int(result["samples"].sum()), "the column 'stalled'")
+        _warn_sweep_capped(result)
         return result
     release_dist = "line" if release_dist is None else release_dist
     release, release_sd = _gaussian(str(release_dist), release, release_sd)
@@ -527,7 +529,16 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release
                         _seed(seed), _scalar("release", release), _scalar("release_sd", release_sd),
                         _scalar("velocity_sd", velocity_sd), _progress_callback(progress, "sweep"),
                         _geometry(geometry))
+    _warn_sweep_capped(result)
     return _text_columns(result, ("release_dist",))
+
+
+def _warn_sweep_capped(result):
+    """The CappedWarning of a sweep: its runs the collision cap ended, summed over the grid (the
+    binding's private count, removed here: the columns are those of the CLI's CSV)."""
+    caps = np.unique(result["max_collisions"])
+    _warn_capped(int(result.pop("_capped")), int(result["samples"].sum()), int(caps[0]) if len(caps) == 1 else None,
+                 stacklevel=4)
 
 
 def geometry(geometry=None, **model):

@@ -270,6 +270,11 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
   d["periodic"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].periodic; });
   d["stalled"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].stalled; });
   d["total_collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].total_collisions; });
+  // Not a CSV column: the runs the collision cap ended, for funnel.sweep's CappedWarning (which
+  // removes the key).
+  std::int64_t capped = 0;
+  for (const funnel::Ensemble3Result& r : results) capped += r.capped;
+  d["_capped"] = capped;
   return d;
 }
 

@@ -471,6 +471,11 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
   d["rest"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].rest; });
   d["trapped"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].trapped; });
   d["total_collisions"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].total_collisions; });
+  // Not a CSV column: the runs the collision cap ended, for funnel.sweep's CappedWarning (which
+  // removes the key).
+  std::int64_t capped = 0;
+  for (const funnel::EnsembleResult& r : results) capped += r.capped;
+  d["_capped"] = capped;
   return d;
 }
 

@@ -307,6 +307,14 @@ def test_runs_ended_by_the_collision_cap_are_counted_and_warn():
         assert 50 < e["capped"] <= e["status_counts"]["trapped"], space
         assert e["stalled"] == 0
         assert str(caught[0].message).startswith(f"{e['capped']} of 100 runs"), space
+    # A sweep sums them over its grid (its columns stay the CLI's CSV's); a cap that varies over
+    # the grid is not quoted.
+    for space in ("2d", "3d"):
+        with pytest.warns(funnel.CappedWarning, match=r"^\d+ of 20 runs reached max_collisions \(50\)"):
+            s = funnel.sweep(samples=10, theta=[50, 60], max_collisions=50, space=space)
+        assert "_capped" not in s
+    with pytest.warns(funnel.CappedWarning, match=r"^40 of 40 runs reached max_collisions inside"):
+        funnel.sweep(samples=10, theta=[50, 60], max_collisions=[50, 60])
     # Under the default cap: none, and no warning (pyproject turns warnings into errors).
     e = funnel.ensemble(samples=100, theta=60)
     assert e["capped"] == 0 and e["status_counts"]["exited"] == 100
