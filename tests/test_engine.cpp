@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <memory>
 #include <vector>
 
@@ -79,6 +80,34 @@ TEST(Engine, ElasticCollisionsWithFullTangentialRestitutionConserveEnergy) {
   EXPECT_GT(trace.sticking, 9000);
 }
 
+/// The logs of releases at x0 and -x0 are exact mirror images, event by event: the same kinds
+/// on the other wall, at the same times, with x, u, spin, slip and the friction impulse j_t
+/// negated (t = (n_y, -n_x) of each wall's own normal mirrors to -t), the rest equal. Exactly:
+/// mirror halving of ensembles relies on the engine's exact mirror symmetry.
+void expect_mirror_logs(const EventLog& a, const EventLog& b, const std::string& where) {
+  ASSERT_EQ(a.events.size(), b.events.size()) << where;
+  for (std::size_t i = 0; i < a.events.size(); ++i) {
+    const Event& ea = a.events[i];
+    const Event& eb = b.events[i];
+    const std::string at = where + " event " + std::to_string(i) + " " + std::string(to_string(ea.kind));
+    ASSERT_EQ(ea.kind, eb.kind) << at;
+    if (ea.wall) {
+      EXPECT_NE(*ea.wall, *eb.wall) << at;
+    }
+    EXPECT_EQ(ea.time, eb.time) << at;
+    EXPECT_EQ(ea.position.x, 0.0 - eb.position.x) << at;
+    EXPECT_EQ(ea.position.y, eb.position.y) << at;
+    EXPECT_EQ(ea.velocity_after.x, 0.0 - eb.velocity_after.x) << at;
+    EXPECT_EQ(ea.velocity_after.y, eb.velocity_after.y) << at;
+    EXPECT_EQ(ea.omega_after, 0.0 - eb.omega_after) << at;
+    EXPECT_EQ(ea.regime, eb.regime) << at;
+    EXPECT_EQ(ea.j_n, eb.j_n) << at;
+    EXPECT_EQ(ea.j_t, 0.0 - eb.j_t) << at;
+    EXPECT_EQ(ea.energy_lost, eb.energy_lost) << at;
+    EXPECT_EQ(ea.slip_before, 0.0 - eb.slip_before) << at;
+  }
+}
+
 TEST(Engine, MirrorReleaseGivesMirrorTrajectory) {
   for (const double theta : {25.0, 44.0, 46.0, 60.0}) {
     for (const double x0 : {0.13, 0.52, 0.91}) {
@@ -88,31 +117,14 @@ TEST(Engine, MirrorReleaseGivesMirrorTrajectory) {
       EventLog a, b;
       simulate_release(p, g, x0, &a);
       simulate_release(p, g, -x0, &b);
-      ASSERT_EQ(a.events.size(), b.events.size());
-      for (std::size_t i = 0; i < a.events.size(); ++i) {
-        const Event& ea = a.events[i];
-        const Event& eb = b.events[i];
-        EXPECT_EQ(ea.kind, eb.kind);
-        if (ea.wall) {
-          EXPECT_NE(*ea.wall, *eb.wall);
-        }
-        // Exactly: mirror halving of ensembles relies on the engine's exact mirror symmetry.
-        EXPECT_EQ(ea.time, eb.time);
-        EXPECT_EQ(ea.position.x, 0.0 - eb.position.x);
-        EXPECT_EQ(ea.position.y, eb.position.y);
-        EXPECT_EQ(ea.velocity_after.x, 0.0 - eb.velocity_after.x);
-        EXPECT_EQ(ea.velocity_after.y, eb.velocity_after.y);
-        EXPECT_EQ(ea.omega_after, 0.0 - eb.omega_after);
-      }
+      expect_mirror_logs(a, b, "theta " + std::to_string(theta) + " x0 " + std::to_string(x0));
     }
   }
 }
 
 TEST(Engine, MirrorReleaseGivesTheMirrorEventLogEdgeContactsIncluded) {
-  // Every logged quantity of every event mirrors, the friction impulses of contacts with the
-  // outlet's edges too (the right wall's edge contact is solved in its mirror image, and its
-  // tangential impulse turned back). j_t is along t = (n_y, -n_x) of each wall's own normal,
-  // which mirrors to -t: the mirror event has -j_t.
+  // The friction impulses of contacts with the outlet's edges mirror too (the right wall's edge
+  // contact is solved in its mirror image, and its tangential impulse turned back).
   int edge_contacts = 0, face_collisions = 0;
   // Shallow funnels and little bounce: balls slide down to the outlet slowly enough to roll over
   // its edge.
@@ -124,17 +136,8 @@ TEST(Engine, MirrorReleaseGivesTheMirrorEventLogEdgeContactsIncluded) {
         EventLog a, b;
         simulate_release(p, g, x0, &a);
         simulate_release(p, g, -x0, &b);
-        ASSERT_EQ(a.events.size(), b.events.size());
-        for (std::size_t i = 0; i < a.events.size(); ++i) {
-          const Event& ea = a.events[i];
-          const Event& eb = b.events[i];
-          ASSERT_EQ(ea.kind, eb.kind);
-          EXPECT_EQ(ea.regime, eb.regime);
-          EXPECT_EQ(ea.j_n, eb.j_n);
-          EXPECT_EQ(ea.j_t, 0.0 - eb.j_t) << theta << " " << e << " " << x0 << " event " << i << " "
-                                         << to_string(ea.kind);
-          EXPECT_EQ(ea.energy_lost, eb.energy_lost);
-          EXPECT_EQ(ea.slip_before, 0.0 - eb.slip_before);
+        expect_mirror_logs(a, b, "theta " + std::to_string(theta) + " e " + std::to_string(e) + " x0 " + std::to_string(x0));
+        for (const Event& ea : a.events) {
           edge_contacts += ea.kind == EventKind::EdgeContactEnd && ea.j_t != 0.0;
           face_collisions += ea.kind == EventKind::Face && ea.j_t != 0.0;
         }
