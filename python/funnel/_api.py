@@ -227,10 +227,9 @@ def _warn_capped(capped, runs, cap, stacklevel=3):
 
 
 def _warn_capped_run(result):
-    """The CappedWarning of one trajectory's result: trapped with max_collisions collisions (a
-    run ends at the collision that reaches the cap, and only there with that many)."""
-    cap = int(result["params"]["max_collisions"])
-    _warn_capped(int(result["status"] == "trapped" and result["collisions"] >= cap), 1, cap, stacklevel=4)
+    """The CappedWarning of one trajectory's result, from the engine's own flag (the binding's
+    private key, removed here: the keys are those of the CLI's JSON)."""
+    _warn_capped(int(result.pop("_capped")), 1, int(result["params"]["max_collisions"]), stacklevel=4)
 
 
 def simulate(release, events=False, wear_bins=0, space="2d", geometry=None, **model):

@@ -170,6 +170,7 @@ py::dict simulate_3d(const std::map<std::string, double>& model, double release,
   d["omega0"] = std::vector<double>{s.omega.x, s.omega.y, s.omega.z};
   put_trajectory_3d(d, t);
   if (events) d["events"] = events_dict_3d(log.events);
+  d["_capped"] = t.capped;  // not a CLI key: for funnel.simulate's CappedWarning, which removes it
   return d;
 }
 

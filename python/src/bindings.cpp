@@ -344,6 +344,7 @@ py::dict simulate(const std::map<std::string, double>& model, double release, bo
   put_trajectory(d, t);
   if (wear_bins > 0) d["wear"] = wear_dict(wear);
   if (events) d["events"] = events_dict(log.events);
+  d["_capped"] = t.capped;  // not a CLI key: for funnel.simulate's CappedWarning, which removes it
   return d;
 }
 
