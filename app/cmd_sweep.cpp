@@ -33,6 +33,13 @@ namespace funnel::cli {
 
 namespace {
 
+/// The value of an integer parameter that every point of the grid shares, or 0 when it varies
+/// (what the warnings quote as the guard in effect).
+std::int64_t common_value(const std::vector<Params>& points, std::int64_t Params::*field) {
+  const std::int64_t first = points.front().*field;
+  return std::all_of(points.begin(), points.end(), [&](const Params& p) { return p.*field == first; }) ? first : 0;
+}
+
 /// Cost of one trajectory in the run-time estimate, seconds per thread: the reference ensemble
 /// (theta = 60, e = 0.99, mu = 1; docs/performance.md) runs 223 000 trajectories per second on
 /// one thread, 4.5 us each, rounded up. Long-lived trajectories (e near 1, mu = 0) cost more.
@@ -343,19 +350,13 @@ struct SweepCommand {
       const auto column = static_cast<std::size_t>(std::find(cols.begin(), cols.end(), "stalled") - cols.begin());
       std::int64_t stalled = 0;
       for (const auto& [i, row] : done) stalled += std::stoll(comma_items(row).at(column));
-      const bool one_guard = std::all_of(points.begin(), points.end(), [&](const Params& p) {
-        return p.max_ode_steps == points.front().max_ode_steps;
-      });
       warn_stalled("funnel sweep", sp, stalled, static_cast<std::int64_t>(points.size()) * options.samples,
-                   "the column stalled", one_guard ? points.front().max_ode_steps : 0);
+                   "the column stalled", common_value(points, &Params::max_ode_steps));
     } else {
       warn_stalled("funnel sweep", sp, stalled_now, static_cast<std::int64_t>(todo.size()) * options.samples);
     }
-    const bool one_cap = std::all_of(points.begin(), points.end(), [&](const Params& p) {
-      return p.max_collisions == points.front().max_collisions;
-    });
     warn_capped("funnel sweep", capped_now, static_cast<std::int64_t>(todo.size()) * options.samples,
-                one_cap ? points.front().max_collisions : 0);
+                common_value(points, &Params::max_collisions));
     if (!target.regular()) {
       std::cerr << "funnel sweep: provenance (FILE.csv.json) not written: --out '" << out << "' is not a regular file\n";
       return;
