@@ -150,6 +150,22 @@ nlohmann::ordered_json profile_json(const ProfileSpec& profile) {
   return j;
 }
 
+/// A finished point of a sweep: its CSV row (newline included) and how many of its runs the
+/// collision cap and a guard ended (the warnings' counts, which the CSV has no column for in 2D).
+struct SavedPoint {
+  std::string row;
+  std::int64_t capped = 0;
+  std::int64_t stalled = 0;
+};
+
+/// The columns of a partial file: the grid index and the two counts, then the CSV's.
+std::string partial_header(const std::string& header) { return "point,capped,stalled," + header; }
+
+/// The line of a partial file that saves point i.
+std::string partial_line(std::size_t i, const SavedPoint& p) {
+  return std::to_string(i) + "," + std::to_string(p.capped) + "," + std::to_string(p.stalled) + "," + p.row;
+}
+
 /// Finished points in a partial file: its lines after the spec and the header.
 std::int64_t partial_points(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -240,10 +256,11 @@ struct SweepCommand {
     if (!points.empty() && points.front().profile) spec["geometry"] = profile_json(*points.front().profile);
     const std::string spec_line = "# funnel sweep spec: " + spec.dump() + "\n";
 
-    // Rows already computed by an interrupted run ("point,<row>"), by grid index. A partial
-    // file lives beside a regular output file only (not beside a device, FIFO or stdout).
+    // Points already computed by an interrupted run ("point,capped,stalled,<row>"), by grid
+    // index. A partial file lives beside a regular output file only (not beside a device, FIFO
+    // or stdout).
     std::string partial;
-    std::map<std::size_t, std::string> done;
+    std::map<std::size_t, SavedPoint> done;
     if (target.regular()) {
       partial = target.path + ".partial";
       // A partial file without a finished point holds nothing to lose: it is started again.
@@ -260,7 +277,7 @@ struct SweepCommand {
           prefixes.push_back(std::move(line));
         }
         if (std::filesystem::exists(partial)) {
-          done = read_partial(partial, spec_line, header, prefixes);
+          done = read_partial(partial, spec_line, header, prefixes, options.samples);
         } else {
           std::cerr << "funnel sweep: --resume: no partial file '" << partial << "' to continue; running every point\n";
         }
@@ -283,9 +300,6 @@ struct SweepCommand {
     }
     const std::string total = std::to_string(points.size());
     points_saved = static_cast<std::int64_t>(done.size());
-    // Runs of the points computed now that the collision cap (2D and 3D) or the Zeno guard (2D;
-    // 3D's stalled count is a column) ended: not in the CSV, so a resume knows only its own.
-    std::int64_t capped_now = 0, stalled_now = 0;
     {
       const InterruptNotice notice =
           target.regular()
@@ -308,13 +322,14 @@ struct SweepCommand {
       int append_error = 0;
       ProgressBar bar("funnel sweep", true);
       // One finished point: its row (the statistics' part from 2D or 3D) is kept and appended.
-      auto point_done = [&](std::size_t k, const std::vector<std::string>& stats) {
+      auto point_done = [&](std::size_t k, const std::vector<std::string>& stats, std::int64_t capped,
+                            std::int64_t stalled) {
             const std::size_t i = todo_index[k];
             std::vector<std::string> row = row_start(points[i]);
             for (const auto& v : stats) row.push_back(v);
-            done[i] = csv_line(row);
+            done[i] = SavedPoint{csv_line(row), capped, stalled};
             if (f != nullptr) {
-              const std::string line = std::to_string(i) + "," + done[i];
+              const std::string line = partial_line(i, done[i]);
               if ((std::fwrite(line.data(), 1, line.size(), f) != line.size() || std::fflush(f) != 0) && append_error == 0) {
                 append_error = errno;
               }
@@ -324,14 +339,11 @@ struct SweepCommand {
       const auto progress = [&bar](std::int64_t d, std::int64_t t) { bar.update(d, t); };
       if (sp == Space::ThreeD) {
         run_sweep_3d(todo, options3, progress, [&](std::size_t k, const Ensemble3Result& r) {
-          capped_now += r.capped;
-          point_done(k, ensemble_row(r));
+          point_done(k, ensemble_row(r), r.capped, r.stalled);
         });
       } else {
         distributed_sweep(todo, options, progress, [&](std::size_t k, const EnsembleResult& r) {
-          capped_now += r.capped;
-          stalled_now += r.stalled;
-          point_done(k, ensemble_row(r));
+          point_done(k, ensemble_row(r), r.capped, r.stalled);
         });
       }
       bar.finish(std::to_string(todo.size()) + " of " + total + " points computed");
@@ -343,20 +355,21 @@ struct SweepCommand {
     }
 
     std::string text = header;
-    for (std::size_t i = 0; i < points.size(); ++i) text += done.at(i);
+    for (std::size_t i = 0; i < points.size(); ++i) text += done.at(i).row;
     write_output(out, text);
-    if (sp == Space::ThreeD) {
-      // Every point's stalled count, those resumed from a partial file included.
-      const auto column = static_cast<std::size_t>(std::find(cols.begin(), cols.end(), "stalled") - cols.begin());
-      std::int64_t stalled = 0;
-      for (const auto& [i, row] : done) stalled += std::stoll(comma_items(row).at(column));
-      warn_stalled("funnel sweep", sp, stalled, static_cast<std::int64_t>(points.size()) * options.samples,
-                   "the column stalled", common_value(points, &Params::max_ode_steps));
-    } else {
-      warn_stalled("funnel sweep", sp, stalled_now, static_cast<std::int64_t>(todo.size()) * options.samples);
+    // The warnings count every point's runs, those resumed from a partial file included.
+    std::int64_t capped = 0, stalled = 0;
+    for (const auto& [i, saved] : done) {
+      capped += saved.capped;
+      stalled += saved.stalled;
     }
-    warn_capped("funnel sweep", capped_now, static_cast<std::int64_t>(todo.size()) * options.samples,
-                common_value(points, &Params::max_collisions));
+    const std::int64_t runs = static_cast<std::int64_t>(points.size()) * options.samples;
+    if (sp == Space::ThreeD) {
+      warn_stalled("funnel sweep", sp, stalled, runs, "the column stalled", common_value(points, &Params::max_ode_steps));
+    } else {
+      warn_stalled("funnel sweep", sp, stalled, runs);
+    }
+    warn_capped("funnel sweep", capped, runs, common_value(points, &Params::max_collisions));
     if (!target.regular()) {
       std::cerr << "funnel sweep: provenance (FILE.csv.json) not written: --out '" << out << "' is not a regular file\n";
       return;
@@ -392,24 +405,26 @@ struct SweepCommand {
     return true;
   }
 
-  /// Valid rows of a partial file made by the same sweep; an empty map if there is none. A row
-  /// whose parameters are not its point's, or that is not a row of numbers (an edited or damaged
-  /// file), is dropped, and that point computed again.
-  static std::map<std::size_t, std::string> read_partial(const std::string& path, const std::string& spec_line,
+  /// Valid points of a partial file made by the same sweep; an empty map if there is none. A
+  /// line whose parameters are not its point's, whose counts are not whole numbers from 0 to the
+  /// sample count, or that is not a row of numbers (an edited or damaged file), is dropped, and
+  /// that point computed again.
+  static std::map<std::size_t, SavedPoint> read_partial(const std::string& path, const std::string& spec_line,
                                                          const std::string& header,
-                                                         const std::vector<std::string>& prefixes) {
+                                                         const std::vector<std::string>& prefixes,
+                                                         std::int64_t samples) {
     const std::size_t n_points = prefixes.size();
-    std::map<std::size_t, std::string> rows;
+    std::map<std::size_t, SavedPoint> rows;
     std::ifstream in(path, std::ios::binary);
     if (!in) return rows;
     std::stringstream buffer;
     buffer << in.rdbuf();
     const std::string text = buffer.str();
-    if (text.rfind(spec_line + "point," + header, 0) != 0) {
+    if (text.rfind(spec_line + partial_header(header), 0) != 0) {
       throw UsageError("invalid resume: '" + path + "' was made by a different sweep (grid, samples, release-dist, "
                        "geometry or funnel version); run with --overwrite instead of --resume to discard it");
     }
-    std::size_t pos = spec_line.size() + 6 + header.size();
+    std::size_t pos = spec_line.size() + partial_header(header).size();
     std::size_t dropped = 0;
     for (std::size_t eol; (eol = text.find('\n', pos)) != std::string::npos; pos = eol + 1) {
       const std::string line = text.substr(pos, eol + 1 - pos);  // a line cut by a kill has no newline
@@ -420,12 +435,25 @@ struct SweepCommand {
         continue;
       }
       const auto i = static_cast<std::size_t>(*index);
-      const std::string row = line.substr(comma + 1);
-      if (!valid_row(row, prefixes[i], header)) {
+      // The two counts, each a whole number of runs of this point.
+      SavedPoint saved;
+      std::size_t start = comma + 1;
+      bool counts_valid = true;
+      for (std::int64_t* count : {&saved.capped, &saved.stalled}) {
+        const std::size_t end = line.find(',', start);
+        const auto value = end == std::string::npos ? std::nullopt : parse_number(line.substr(start, end - start));
+        counts_valid = counts_valid && value && *value >= 0 && *value <= static_cast<double>(samples) &&
+                       *value == std::floor(*value);
+        if (!counts_valid) break;
+        *count = static_cast<std::int64_t>(*value);
+        start = end + 1;
+      }
+      saved.row = counts_valid ? line.substr(start) : std::string();
+      if (!counts_valid || !valid_row(saved.row, prefixes[i], header)) {
         ++dropped;
         continue;
       }
-      rows[i] = row;
+      rows[i] = std::move(saved);
     }
     if (dropped > 0) {
       std::cerr << "funnel sweep: resuming: " << dropped << " row" << (dropped == 1 ? "" : "s") << " of '" << path
@@ -436,9 +464,9 @@ struct SweepCommand {
 
   /// (Re)writes the partial file with its spec, header and the rows kept, atomically.
   static void write_partial_start(const std::string& path, const std::string& spec_line, const std::string& header,
-                                  const std::map<std::size_t, std::string>& rows) {
-    std::string text = spec_line + "point," + header;
-    for (const auto& [i, row] : rows) text += std::to_string(i) + "," + row;
+                                  const std::map<std::size_t, SavedPoint>& rows) {
+    std::string text = spec_line + partial_header(header);
+    for (const auto& [i, saved] : rows) text += partial_line(i, saved);
     write_output(path, text);
   }
 };

@@ -63,6 +63,14 @@ class Cli : public ::testing::Test {
   fs::path dir_;
 };
 
+/// The first two lines of a sweep's partial file, as an interrupted run leaves them: the spec
+/// (FILE.csv.json's "spec", dumped), then the columns: the grid index, the counts of runs that the
+/// collision cap and a guard ended, and the CSV's (`header`, its first line without the newline).
+/// Each finished point follows as "INDEX,CAPPED,STALLED,ROW".
+inline std::string partial_start(const std::string& spec, const std::string& header) {
+  return "# funnel sweep spec: " + spec + "\npoint,capped,stalled," + header + "\n";
+}
+
 /// Exit code 2, and the message names the parameter and the value.
 inline void expect_rejected(const Result& r, const std::string& name, const std::string& value) {
   EXPECT_EQ(r.code, 2) << r.output;

@@ -349,11 +349,11 @@ TEST_F(Cli, ResumeRecomputesPartialRowsThatAreNotTheGridsOwn) {
   std::getline(in, header);
   for (std::string line; std::getline(in, line);) rows.push_back(line);
   ASSERT_EQ(rows.size(), 5u);
-  std::string partial = "# funnel sweep spec: " + spec + "\npoint," + header + "\n";
-  partial += "0,99" + rows[0].substr(rows[0].find(',')) + "\n";                 // another theta
-  partial += "1," + rows[1].substr(0, rows[1].rfind(',')) + ",oops\n";          // a word
-  partial += "2," + rows[2].substr(0, rows[2].rfind(',')) + "\n";               // a column short
-  partial += "3," + rows[3] + "\n";                                             // intact
+  std::string partial = partial_start(spec, header);
+  partial += "0,0,0,99" + rows[0].substr(rows[0].find(',')) + "\n";             // another theta
+  partial += "1,0,0," + rows[1].substr(0, rows[1].rfind(',')) + ",oops\n";      // a word
+  partial += "2,0,0," + rows[2].substr(0, rows[2].rfind(',')) + "\n";           // a column short
+  partial += "3,0,0," + rows[3] + "\n";                                         // intact
   write("cut.csv.partial", partial);
   const Result r = run(grid + path("cut.csv") + " --resume");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -372,9 +372,9 @@ TEST_F(Cli, ResumeKeepsRowsWithUndefinedStatistics) {
   std::stringstream in(read("full.csv"));
   std::string header, partial;
   std::getline(in, header);
-  partial = "# funnel sweep spec: " + spec + "\npoint," + header + "\n";
+  partial = partial_start(spec, header);
   int i = 0;
-  for (std::string line; std::getline(in, line) && i < 3; ++i) partial += std::to_string(i) + "," + line + "\n";
+  for (std::string line; std::getline(in, line) && i < 3; ++i) partial += std::to_string(i) + ",0,0," + line + "\n";
   write("cut.csv.partial", partial);
   const Result r = run(grid + path("cut.csv") + " --resume");
   ASSERT_EQ(r.code, 0) << r.output;

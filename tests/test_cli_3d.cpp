@@ -154,11 +154,35 @@ TEST_F(Cli, RunsEndedByTheCollisionCapAreCountedAndWarnedOf) {
               std::string::npos) << space << e.output;
     EXPECT_NE(e.output.find("A higher --max-collisions lets them go on"), std::string::npos) << e.output;
   }
-  // A sweep sums them over the points it computed.
+  // A sweep sums them over its points.
   const Result s = run("sweep --theta 50,60 --samples 10 --max-collisions 50 --out " + path("s.csv"));
   ASSERT_EQ(s.code, 0) << s.output;
   EXPECT_NE(s.output.find("funnel sweep: warning: 20 of 20 runs reached --max-collisions (50)"), std::string::npos)
       << s.output;
+  // Resumed with the first point from a partial file, it still counts that point's runs, which
+  // the partial file keeps beside the row (they were left out: "10 of 10 runs").
+  const std::string text = read("s.csv");
+  const std::string header = text.substr(0, text.find('\n'));
+  const std::string first_row = text.substr(header.size() + 1, text.find('\n', header.size() + 1) - header.size());
+  const std::string spec = nlohmann::ordered_json::parse(read("s.csv.json"))["spec"].dump();
+  const std::string resume = "sweep --theta 50,60 --samples 10 --max-collisions 50 --resume --out " + path("r.csv");
+  write("r.csv.partial", partial_start(spec, header) + "0,10,0," + first_row);
+  const Result resumed = run(resume);
+  ASSERT_EQ(resumed.code, 0) << resumed.output;
+  EXPECT_EQ(json::parse(read("r.csv.json"))["resumed_points"], 1);
+  EXPECT_EQ(read("r.csv"), text);
+  EXPECT_NE(resumed.output.find("funnel sweep: warning: 20 of 20 runs reached"), std::string::npos) << resumed.output;
+  // A count that is not a whole number of the point's runs marks a damaged line: its point is
+  // computed again.
+  for (const std::string bad : {"11", "-1", "2.5", "x", ""}) {
+    write("r.csv.partial", partial_start(spec, header) + "0," + bad + ",0," + first_row);
+    const Result again = run(resume);
+    ASSERT_EQ(again.code, 0) << again.output;
+    EXPECT_EQ(json::parse(read("r.csv.json"))["resumed_points"], 0) << bad;
+    EXPECT_NE(again.output.find("1 row of"), std::string::npos) << bad << again.output;
+    EXPECT_EQ(read("r.csv"), text) << bad;
+    EXPECT_NE(again.output.find("funnel sweep: warning: 20 of 20 runs reached"), std::string::npos) << again.output;
+  }
   // Under the default cap: no count, no warning.
   const Result plain = run("ensemble --theta 60 --samples 100 --out " + path("p.json"));
   ASSERT_EQ(plain.code, 0) << plain.output;
@@ -230,8 +254,9 @@ TEST_F(Cli, ARunStoppedByTheStepGuardIsFlaggedStalledAndWarnedOf) {
   // Resumed with the first point from a partial file, the sweep still counts that point's.
   const std::string text = read("s.csv");
   const std::string first_row = text.substr(text.find('\n') + 1, text.find('\n', text.find('\n') + 1) - text.find('\n'));
-  write("r.csv.partial", "# funnel sweep spec: " + nlohmann::ordered_json::parse(read("s.csv.json"))["spec"].dump() + "\npoint," +
-                             text.substr(0, text.find('\n') + 1) + "0," + first_row);
+  write("r.csv.partial", partial_start(nlohmann::ordered_json::parse(read("s.csv.json"))["spec"].dump(),
+                                       text.substr(0, text.find('\n'))) +
+                             "0,0," + std::to_string(first) + "," + first_row);
   const Result resumed = run("sweep --space 3d --theta 50 --e 0.9 --mu 0.2 --gap 0 --t-max 60 --samples 61 "
                              "--velocity-sd 0.2 --seed 9 --max-ode-steps 20000,40000 --resume --out " + path("r.csv"));
   ASSERT_EQ(resumed.code, 0) << resumed.output;

@@ -347,7 +347,7 @@ TEST_F(Cli, ASweepOfAGeometryFileResumesOnlyTheSameWalls) {
   std::getline(in, header);
   std::getline(in, first);
   // One finished point, as an interrupted run leaves it.
-  const std::string partial = "# funnel sweep spec: " + spec.dump() + "\npoint," + header + "\n0," + first + "\n";
+  const std::string partial = partial_start(spec.dump(), header) + "0,0,0," + first + "\n";
   write("cut.csv.partial", partial);
   expect_rejected(run(grid + path("b.toml") + " --out " + path("cut.csv") + " --resume"), "resume", "geometry");
   EXPECT_EQ(read("cut.csv.partial"), partial);
@@ -366,7 +366,7 @@ TEST_F(Cli, ResumeWithNothingToResumeSaysSoAndAnEmptyPartialFileBlocksNothing) {
   const std::string full = read("s.csv");
   // A partial file left before its first point was finished holds nothing to lose: not refused.
   const std::string spec = nlohmann::ordered_json::parse(read("s.csv.json"))["spec"].dump();
-  write("s.csv.partial", "# funnel sweep spec: " + spec + "\npoint," + full.substr(0, full.find('\n') + 1));
+  write("s.csv.partial", partial_start(spec, full.substr(0, full.find('\n'))));
   fs::remove(path("s.csv"));
   const Result again = run(grid);
   ASSERT_EQ(again.code, 0) << again.output;
