@@ -120,7 +120,6 @@ void put_chunk(Writer& w, const ChunkStats& c) {
   w.put(c.total_collisions);
   w.put(c.simulated_collisions);
   w.put(c.wear.bins);
-  w.put(c.wear.bin_width);
   w.put(c.wear.widths);
   for (const WallWear& wall : c.wear.walls) {
     w.put_vector(wall.collisions);
@@ -144,7 +143,6 @@ ChunkStats get_chunk(Reader& r) {
   c.total_collisions = r.get<std::int64_t>();
   c.simulated_collisions = r.get<std::int64_t>();
   c.wear.bins = r.get<int>();
-  c.wear.bin_width = r.get<double>();
   c.wear.widths = r.get<decltype(c.wear.widths)>();
   for (WallWear& wall : c.wear.walls) {
     wall.collisions = r.get_vector<double>();

@@ -32,7 +32,6 @@ Wear Wear::make(const Funnel& f, int bins) {
   w.bins = bins;
   if (bins <= 0) return w;
   for (int i = 0; i < 2; ++i) w.widths[i] = surface_length_to(f.sides[i], f.y_release) / bins;
-  w.bin_width = w.widths[0];
   for (WallWear& ww : w.walls) {
     ww.collisions.assign(static_cast<std::size_t>(bins), 0.0);
     ww.normal_impulse.assign(static_cast<std::size_t>(bins), 0.0);
@@ -71,7 +70,7 @@ void Wear::add_edge(Wall wall, double j_n, double j, bool count) {
 void Wear::add_face_phase(Wall wall, const FacePhase& ph, double cos_theta, double offset) {
   if (bins <= 0 || !(ph.duration > 0.0)) return;
   WallWear& ww = (*this)[wall];
-  const double bin_width = widths[wall == Wall::Left ? 0 : 1];
+  const double bin_width = width(wall);
   const double total = std::hypot(cos_theta, ph.force);
   // Distance up the face: s(t) = start - speed t - accel t^2 / 2. Split at its turning point
   // (if any) into monotone pieces; in each, the time between crossings of the bin boundaries.

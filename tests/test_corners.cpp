@@ -291,7 +291,7 @@ TEST(Wear, BinsSumToTheTrajectoryTotals) {
         EXPECT_EQ(collisions, static_cast<double>(t.collisions));
         EXPECT_TRUE(near(normal, t.normal_impulse, 1e-12)) << theta << " " << e << " " << f;
         EXPECT_TRUE(near(total, t.impulse, 1e-12)) << theta << " " << e << " " << f;
-        EXPECT_TRUE(near(w.bin_width * w.bins, (g.y_release - g.y_bottom) / g.sin_t, 1e-15));
+        EXPECT_TRUE(near(w.width(Wall::Left) * w.bins, (g.y_release - g.y_bottom) / g.sin_t, 1e-15));
         // Recording the wear changes nothing else.
         const Trajectory plain = simulate_release(p, g, f);
         EXPECT_EQ(plain.duration, t.duration);
@@ -316,7 +316,7 @@ TEST(Wear, ASlideSpreadsItsImpulseOverTheBinsItCrosses) {
   }
   ASSERT_GT(start_height, g.y_face_end);
   const double s_start = (start_height - g.y_face_end) / g.sin_t;
-  const auto last = static_cast<std::size_t>(std::floor(s_start / w.bin_width));
+  const auto last = static_cast<std::size_t>(std::floor(s_start / w.width(Wall::Left)));
   for (std::size_t k = 0; k < last; ++k) EXPECT_GT(w[Wall::Left].normal_impulse[k], 0.0) << k;
 }
 

@@ -21,12 +21,11 @@ struct WallWear {
 };
 
 /// Wear of both walls in `bins` equal bins of distance s along each wall's surface, measured
-/// from its lower end (the edge point) up to the release height (for the V: bin_width =
+/// from its lower end (the edge point) up to the release height (for the V: width =
 /// H0 / sin(theta) / bins). Contacts above the release height (possible only for upward
 /// releases) are counted in the last bin.
 struct Wear {
   int bins = 0;              ///< number of bins per wall (0: wear is not recorded)
-  double bin_width = 0.0;    ///< units of H: the left wall's, widths[0] (each wall's own: widths)
   std::array<WallWear, 2> walls;  ///< indexed by wall: 0 left, 1 right
   std::array<double, 2> widths{};  ///< bin width of each wall, units of H
 
@@ -35,6 +34,8 @@ struct Wear {
 
   WallWear& operator[](Wall w) { return walls[w == Wall::Left ? 0 : 1]; }
   const WallWear& operator[](Wall w) const { return walls[w == Wall::Left ? 0 : 1]; }
+  /// The bin width of a wall, units of H (the walls of an asymmetric funnel differ in length).
+  double width(Wall w) const { return widths[w == Wall::Left ? 0 : 1]; }
 
   /// A face collision at distance s up the face, with normal impulse j_n and |J| = j.
   void add_collision(Wall wall, double s, double j_n, double j);

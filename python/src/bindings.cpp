@@ -239,7 +239,7 @@ py::dict wear_dict(const funnel::Wear& w) {
     side["edge"] = edge;
     d[py::str(std::string(funnel::to_string(wall)))] = side;
   }
-  d["bin_width"] = w.bin_width;
+  d["bin_width"] = w.width(funnel::Wall::Left);  // (kept from before each wall had its own)
   return d;
 }
 

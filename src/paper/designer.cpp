@@ -37,13 +37,14 @@ FigureData wear_profiles(const FigureSpec& fig, int threads, const Progress& pro
     for (const Wall wall : {Wall::Left, Wall::Right}) {
       const WallWear& ww = w[wall];
       const std::string side(to_string(wall));
+      const double width = w.width(wall);
       for (int b = 0; b < w.bins; ++b) {
         const auto j = static_cast<std::size_t>(b);
-        const double s = (b + 0.5) * w.bin_width;
+        const double s = (b + 0.5) * width;
         out.csv += csv_line({panel, number(p.theta), side, std::to_string(b), number(s * g.sin_t), number(s),
                              number(ww.collisions[j]), number(ww.normal_impulse[j]), number(ww.impulse[j]),
-                             number(ww.collisions[j] / w.bin_width), number(ww.normal_impulse[j] / w.bin_width),
-                             number(ww.impulse[j] / w.bin_width)});
+                             number(ww.collisions[j] / width), number(ww.normal_impulse[j] / width),
+                             number(ww.impulse[j] / width)});
         face_impulse += ww.impulse[j];
       }
       out.csv += csv_line({panel, number(p.theta), side, "edge", "0", "0", number(ww.edge_collisions),
@@ -52,7 +53,7 @@ FigureData wear_profiles(const FigureSpec& fig, int threads, const Progress& pro
     }
     impulse_of[p.theta] = r[Observable::Impulse].mean;
     totals.push_back({{"theta", p.theta},
-                      {"bin_width", w.bin_width},
+                      {"bin_width", w.width(Wall::Left)},
                       {"impulse_per_particle", r[Observable::Impulse].mean},
                       {"face_impulse", face_impulse},
                       {"edge_impulse", edge_impulse},

@@ -170,8 +170,7 @@ nlohmann::ordered_json wear_json(const Wear& w) {
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     const WallWear& ww = w[wall];
     nlohmann::ordered_json side;
-    // Each wall's own bins: the walls of an asymmetric funnel differ in length.
-    const double width = w.widths[wall == Wall::Left ? 0 : 1];
+    const double width = w.width(wall);
     std::vector<double> s;
     for (int k = 0; k < w.bins; ++k) s.push_back((k + 0.5) * width);
     side["s"] = s;
@@ -184,7 +183,7 @@ nlohmann::ordered_json wear_json(const Wear& w) {
                     {"impulse", ww.edge_impulse}};
     j[std::string(to_string(wall))] = side;
   }
-  j["bin_width"] = w.bin_width;
+  j["bin_width"] = w.width(Wall::Left);  // (kept from before each wall had its own)
   return j;
 }
 
@@ -193,7 +192,7 @@ std::string wear_csv(const Wear& w) {
   for (const Wall wall : {Wall::Left, Wall::Right}) {
     const WallWear& ww = w[wall];
     const std::string name(to_string(wall));
-    const double width = w.widths[wall == Wall::Left ? 0 : 1];
+    const double width = w.width(wall);
     for (int k = 0; k < w.bins; ++k) {
       const auto i = static_cast<std::size_t>(k);
       text += csv_line({name, std::to_string(k), number((k + 0.5) * width), number(ww.collisions[i]),
