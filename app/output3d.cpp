@@ -36,34 +36,6 @@ Summary reported(const Ensemble3Result& r, const ObservableInfo& o) {
 
 }  // namespace
 
-nlohmann::ordered_json params_json(const Params& p, Space space) {
-  nlohmann::ordered_json j;
-  for (const ParameterInfo& info : parameters(space)) {
-    if (info.integer) {
-      j[info.key()] = static_cast<std::int64_t>(info.get(p));
-    } else {
-      j[info.key()] = json_number(info.get(p));
-    }
-  }
-  return j;
-}
-
-std::vector<std::string> param_columns(Space space) {
-  std::vector<std::string> cols;
-  for (const ParameterInfo& p : parameters(space)) {
-    if (p.option) cols.push_back(p.key());
-  }
-  return cols;
-}
-
-std::vector<std::string> param_row(const Params& p, Space space) {
-  std::vector<std::string> row;
-  for (const ParameterInfo& info : parameters(space)) {
-    if (info.option) row.push_back(field(info.get(p), info.integer));
-  }
-  return row;
-}
-
 nlohmann::ordered_json trajectory_json(const Trajectory3& t) {
   nlohmann::ordered_json j;
   j["status"] = to_string(t.status);

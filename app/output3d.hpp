@@ -25,12 +25,6 @@ using paper::params_json;
 using paper::trajectory_json;
 using paper::trajectory_row;
 
-/// Every parameter of the space by its output key (3D: the 2D ones, release_w, release_spin_x,
-/// release_spin_y).
-nlohmann::ordered_json params_json(const Params& p, Space space);
-/// Column names of the parameter part of a row in this space, then their values.
-std::vector<std::string> param_columns(Space space);
-std::vector<std::string> param_row(const Params& p, Space space);
 
 /// Observables of one 3D trajectory (exit ones null if it did not exit), with "orbits_signed".
 nlohmann::ordered_json trajectory_json(const Trajectory3& t);

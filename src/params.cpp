@@ -138,6 +138,11 @@ bool set_by_geometry(std::string_view name) {
   return false;
 }
 
+double reported_value(const ParameterInfo& info, const Params& p) {
+  if (p.profile && unused_with_geometry(info.name, *p.profile)) return std::numeric_limits<double>::quiet_NaN();
+  return info.get(p);
+}
+
 std::optional<std::string> unused_with_geometry(std::string_view name, const ProfileSpec& profile) {
   if (set_by_geometry(name)) return std::string(not_with_geometry);
   const ParameterInfo* p = find_parameter(name);

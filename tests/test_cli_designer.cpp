@@ -326,6 +326,22 @@ TEST_F(Cli, AMaterialParameterThatEveryWallSetsIsRefusedWithItsFile) {
   std::getline(rows, b);
   const auto stats = [](const std::string& row) { return row.substr(row.find(",line,")); };
   EXPECT_NE(stats(a), stats(b));
+  // The parameters the file replaces have no value in the outputs (not the default V's theta):
+  // the V's, and mu, which both walls set; e, which the left wall takes, keeps its value.
+  EXPECT_EQ(header.rfind("theta,e,mu,beta0,radius,gap,", 0), 0u) << header;
+  EXPECT_EQ(a.rfind(",0.5,,0,0.01,,", 0), 0u) << a;
+  EXPECT_NE(header.find(",theta_left,theta_right,spout_length,release_dist,"), std::string::npos) << header;
+  EXPECT_NE(a.find(",,,,line,"), std::string::npos) << a;
+  ASSERT_EQ(run("trajectory --release 0.3" + geometry + " --out " + path("t.json")).code, 0);
+  const json params = json::parse(read("t.json"))["params"];
+  for (const char* unused : {"theta", "gap", "theta_left", "theta_right", "spout_length", "mu"}) {
+    EXPECT_TRUE(params[unused].is_null()) << unused << " " << params.dump();
+  }
+  EXPECT_EQ(params["e"], 0.99);
+  EXPECT_EQ(params["radius"], 0.01);
+  // A V keeps every value.
+  ASSERT_EQ(run("trajectory --release 0.3 --out " + path("v.json")).code, 0);
+  EXPECT_EQ(json::parse(read("v.json"))["params"]["theta"], 60.0);
 }
 
 TEST_F(Cli, ASweepOfAGeometryFileResumesOnlyTheSameWalls) {

@@ -136,6 +136,11 @@ bool set_by_geometry(std::string_view name);
 /// output (a sweep would label equal rows apart) as if it had been used.
 std::optional<std::string> unused_with_geometry(std::string_view name, const ProfileSpec& profile);
 
+/// A parameter's value as the outputs report it: NaN (JSON null, an empty CSV field, Python None
+/// or NaN) for one that the funnel of a geometry file leaves unused (unused_with_geometry), so
+/// that no output shows the default V's theta for a funnel that has none; else info.get(p).
+double reported_value(const ParameterInfo& info, const Params& p);
+
 /// Checks every field (NaN and infinities included); the first invalid one, if any.
 std::optional<ParamError> validate(const Params& params);
 

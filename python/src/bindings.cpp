@@ -197,7 +197,8 @@ py::dict params_dict(const Params& p) {
     if (info.integer) {
       d[py::str(info.key())] = static_cast<std::int64_t>(info.get(p));
     } else {
-      d[py::str(info.key())] = info.get(p);
+      const double v = funnel::reported_value(info, p);
+      d[py::str(info.key())] = std::isnan(v) ? py::object(py::none()) : py::object(py::float_(v));
     }
   }
   return d;
@@ -451,7 +452,7 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
       d[py::str(info.key())] =
           column<std::int64_t>(n, [&](std::size_t i) { return static_cast<std::int64_t>(info.get(points[i])); });
     } else {
-      d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return info.get(points[i]); });
+      d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return funnel::reported_value(info, points[i]); });
     }
   }
   d["release_dist"] = text_column(n, [&](std::size_t) { return funnel::to_string(options.dist); });

@@ -79,6 +79,14 @@ def test_a_material_every_wall_sets_for_itself_is_refused():
         funnel.sweep(mu=[0, 1], samples=20, geometry=LINED)
     s = funnel.sweep(e=[0.5, 0.9], samples=200, geometry=LINED)
     assert s["duration_mean"][0] != s["duration_mean"][1]
+    # The parameters the file replaces have no value (not the default V's): NaN in a sweep's
+    # columns, None in a result's params; e, which the left wall takes, keeps its value.
+    for unused in ("theta", "gap", "theta_left", "theta_right", "spout_length", "mu"):
+        assert np.all(np.isnan(s[unused])), unused
+    assert s["e"].tolist() == [0.5, 0.9]
+    params = funnel.simulate(release=0.3, geometry=LINED)["params"]
+    assert params["theta"] is None and params["mu"] is None and params["e"] == 0.99
+    assert funnel.simulate(release=0.3)["params"]["theta"] == 60.0
 
 
 def test_bad_geometries_name_the_key_and_the_rule(tmp_path):

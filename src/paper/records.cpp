@@ -53,13 +53,13 @@ std::string wall_text(const std::optional<Wall>& w) { return w ? std::string(to_
 
 }  // namespace
 
-nlohmann::ordered_json params_json(const Params& p) {
+nlohmann::ordered_json params_json(const Params& p, Space space) {
   nlohmann::ordered_json j;
-  for (const ParameterInfo& info : parameters()) {
+  for (const ParameterInfo& info : parameters(space)) {
     if (info.integer) {
       j[info.key()] = static_cast<std::int64_t>(info.get(p));
     } else {
-      j[info.key()] = json_number(info.get(p));
+      j[info.key()] = json_number(reported_value(info, p));
     }
   }
   return j;
@@ -204,18 +204,18 @@ std::string wear_csv(const Wear& w) {
   return text;
 }
 
-std::vector<std::string> param_columns() {
+std::vector<std::string> param_columns(Space space) {
   std::vector<std::string> cols;
-  for (const ParameterInfo& p : parameters()) {
+  for (const ParameterInfo& p : parameters(space)) {
     if (p.option) cols.push_back(p.key());
   }
   return cols;
 }
 
-std::vector<std::string> param_row(const Params& p) {
+std::vector<std::string> param_row(const Params& p, Space space) {
   std::vector<std::string> row;
-  for (const ParameterInfo& info : parameters()) {
-    if (info.option) row.push_back(field(info.get(p), info.integer));
+  for (const ParameterInfo& info : parameters(space)) {
+    if (info.option) row.push_back(field(info.integer ? info.get(p) : reported_value(info, p), info.integer));
   }
   return row;
 }

@@ -26,8 +26,10 @@ class InputError : public std::runtime_error {
 /// Shortest text that reads back as the same double (17 significant digits at most); 0, not -0.
 std::string number(double x);
 
-/// Every parameter by its output key: {"theta": ..., "e": ..., ..., "eps_rest": ...}.
-nlohmann::ordered_json params_json(const Params& p);
+/// Every parameter of the space by its output key: {"theta": ..., "e": ..., ..., "eps_rest": ...}
+/// (3D: also release_w, release_spin_x, release_spin_y); null for one that a geometry file leaves
+/// unused (reported_value).
+nlohmann::ordered_json params_json(const Params& p, Space space = Space::TwoD);
 
 /// The funnel of a run: its source ("v" or the geometry file), the walls' surfaces (top cut
 /// 0.1 above the release line), the exit level, the release line and each wall's material.
@@ -51,9 +53,10 @@ std::vector<std::string> event_columns();
 /// One event as CSV fields (in event_columns() order).
 std::vector<std::string> event_row(const Event& e);
 
-/// Column names of the parameter part of a row (the command-line parameters), then their values.
-std::vector<std::string> param_columns();
-std::vector<std::string> param_row(const Params& p);
+/// Column names of the parameter part of a row (the space's command-line parameters), then their
+/// values (an empty field for one that a geometry file leaves unused).
+std::vector<std::string> param_columns(Space space = Space::TwoD);
+std::vector<std::string> param_row(const Params& p, Space space = Space::TwoD);
 /// Column names of an ensemble's statistics (<observable>_<stat>, then the counts), then values.
 std::vector<std::string> ensemble_columns();
 std::vector<std::string> ensemble_row(const EnsembleResult& r);
