@@ -43,6 +43,13 @@ OBSERVABLE_LABELS = {
     "energy_loss_exited": ("average energy loss (balls that leave)", r"$mgH$"),
     "trapped_fraction": ("fraction trapped (rolling for ever)", None),
     "orbits": ("average turns about the axis", None),
+    "edge_contacts": ("average number of edge contacts", None),
+    "exit_speed": ("average exit speed", r"$\sqrt{gH}$"),
+    "exit_angle": ("average exit angle", "deg"),
+    "exit_x": ("average exit position", r"$H$"),
+    "exit_u": ("average exit velocity, horizontal", r"$\sqrt{gH}$"),
+    "exit_v": ("average exit velocity, vertical", r"$\sqrt{gH}$"),
+    "exit_spin": ("average exit spin", r"$\sqrt{g/H}$"),
 }
 
 #: Symbols of the parameters that distinguish curves.

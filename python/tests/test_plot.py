@@ -207,6 +207,7 @@ def test_labels():
     assert plot.series_label("release_dist", "disk") == "cone (disk)"
     assert plot.axis_label("duration") == r"average duration [$\sqrt{H/g}$]"
     assert plot.axis_label("energy_loss") == r"average energy loss [$mgH$]"
+    assert plot.axis_label("exit_speed") == r"average exit speed [$\sqrt{gH}$]"
     assert plot.pretty("β0 = -0.31") == "$\\beta_0$ = \u22120.31"
 
 
