@@ -56,7 +56,7 @@ struct ClosedCommand {
     opt.slip_tol = positive("slip-tol", slip_tol, "slip-tol > 0");
     opt.height_tol = positive("height-tol", height_tol, "height-tol > 0");
     const Format fmt = to_format(format);
-    check_writable(out);
+    check_writable(out, {{"geometry", model.geometry}});
 
     const ClosedResult r = run_closed(params, ensemble, opt);
     const double half_width = make_funnel(params).half_width;

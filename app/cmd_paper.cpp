@@ -194,7 +194,10 @@ struct PaperCommand {
     // The output directory and each figure's, before any work: a file in the way (or no
     // permission) is said at once, not after minutes of computing.
     create_directory(out, out);
-    for (const FigureSpec& f : figs) create_directory(out, fs::path(out) / f.id);
+    for (const FigureSpec& f : figs) {
+      create_directory(out, fs::path(out) / f.id);
+      for (const char* ext : {".csv", ".json"}) check_writable((fs::path(out) / f.id / (f.id + ext)).string());
+    }
 
     // Ensembles spread over the MPI ranks when run under mpirun (docs/cluster.md).
     SweepCache cache([](const std::vector<Params>& points, const EnsembleOptions& options, const Progress& progress) {

@@ -234,6 +234,10 @@ struct SweepCommand {
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
     validate_all(points, sp);
     const OutputTarget target = resolve_output(out, sizeof(".partial") - 1);
+    check_not_input(out, target, {{"config", config}, {"geometry", model.geometry}});
+    // The side file of the provenance, before any work: a directory or an unwritable file in its
+    // place would otherwise be found only once every point is computed.
+    if (target.regular()) check_writable(target.path + ".json", {{"config", config}, {"geometry", model.geometry}});
 
     std::vector<std::string> cols = param_columns(sp);
     cols.push_back("release_dist");

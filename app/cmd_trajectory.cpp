@@ -43,7 +43,7 @@ struct TrajectoryCommand {
       throw UsageError("invalid --events with --wear-bins and --format csv: the CSV holds either the event log or "
                        "the wear table; use --format json for both");
     }
-    check_writable(out);
+    check_writable(out, {{"geometry", model.geometry}});
     const Funnel g = make_funnel(params);
     EventLog log;
     Wear wear = Wear::make(g, bins);

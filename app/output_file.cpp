@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 
@@ -170,7 +171,20 @@ OutputTarget resolve_output(const std::string& path, std::size_t side_suffix) {
   }
 }
 
-void check_writable(const std::string& path) { (void)resolve_output(path); }
+void check_not_input(const std::string& out, const OutputTarget& t, const std::vector<InputFile>& inputs) {
+  if (!t.regular()) return;
+  for (const InputFile& in : inputs) {
+    std::error_code ec;
+    if (!in.path.empty() && std::filesystem::equivalent(t.path, in.path, ec) && !ec) {
+      throw UsageError("invalid out = '" + out + "': it is the --" + in.option + " file '" + in.path +
+                       "', which the output would replace; valid values are a file other than the run's inputs");
+    }
+  }
+}
+
+void check_writable(const std::string& path, const std::vector<InputFile>& inputs) {
+  check_not_input(path, resolve_output(path), inputs);
+}
 
 void write_output(const std::string& path, const std::string& content) {
   const OutputTarget t = resolve_output(path);

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace funnel::cli {
 
@@ -35,8 +36,20 @@ struct OutputTarget {
 /// `side_suffix` characters more (a sweep's ".partial") and that side file's temporary file.
 OutputTarget resolve_output(const std::string& path, std::size_t side_suffix = 0);
 
-/// Checks before any work that `path` can be written (see resolve_output); throws UsageError.
-void check_writable(const std::string& path);
+/// A file the run reads, which --out must not replace: the option that names it and its path
+/// (empty: none given).
+struct InputFile {
+  std::string option;
+  std::string path;
+};
+
+/// Throws UsageError when --out `out`, resolved to `t`, is one of `inputs` (the same file under
+/// any name): the output would silently replace the run's own input.
+void check_not_input(const std::string& out, const OutputTarget& t, const std::vector<InputFile>& inputs);
+
+/// Checks before any work that `path` can be written (see resolve_output) and is none of
+/// `inputs`; throws UsageError.
+void check_writable(const std::string& path, const std::vector<InputFile>& inputs = {});
 
 /// Writes `content` to `path`: a regular file (or a new one, also through a symbolic link) via a
 /// temporary file in the target's directory and a rename, so that no partial file is ever left

@@ -113,8 +113,8 @@ std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params
                            "the higher end's level");
     }
   }
-  if (spec.bottom && !std::isfinite(*spec.bottom)) {
-    return profile_error("bottom", format_number(*spec.bottom), "a finite height (units of H)");
+  if (spec.bottom && !(std::fabs(*spec.bottom) <= max_coordinate)) {
+    return profile_error("bottom", format_number(*spec.bottom), "a finite height, |bottom| <= 1e6 (units of H)");
   }
 
   // The runtime funnel: every face's region must have a non-negative length (a short segment
@@ -136,10 +136,20 @@ std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params
       }
     }
   }
+  // A release line at or below the exit level would start the particle out of the funnel (it
+  // "exited" at once). Without `bottom` the line is above the higher lower end, so only a given
+  // bottom can put it there.
+  if (spec.bottom && !f.closed && !(f.y_release > f.y_exit)) {
+    return profile_error("bottom", format_number(*spec.bottom),
+                         "a height that puts the release line, bottom + release-height = " + format_number(f.y_release) +
+                             ", above the exit level y = " + format_number(f.y_exit) + " (the lower of the lower ends)");
+  }
   if (!(f.half_width > 0.0 && std::isfinite(f.half_width) && std::isfinite(f.x_release_mid))) {
     ParamError err{"release-height", format_number(params.release_height),
-                   "release-height > 0 with a release line of positive width between the walls, " +
-                       format_number(params.release_height) + " above the outlet at y = " + format_number(f.y_bottom)};
+                   "release-height > 0 with a release line of positive width between the walls, here at y = " +
+                       format_number(f.y_release) + " (" + format_number(params.release_height) + " above " +
+                       (spec.bottom ? "the geometry's bottom" : "the higher lower end") + ", y = " +
+                       format_number(f.y_bottom) + ")"};
     return err;
   }
   return std::nullopt;

@@ -265,7 +265,15 @@ TEST_F(Cli, BadGeometriesAreRefusedNamingTheFileTheKeyAndTheRule) {
   EXPECT_NE(r.output.find("spout-length"), std::string::npos) << r.output;
   expect_rejected(run("ensemble --theta-left 95" + out), "theta-left", "95");
   expect_rejected(run("ensemble --gap 0 --spout-length 0.1" + out), "spout-length", "0.1");
-  EXPECT_EQ(file_count(), 4u);  // the four geometry files, no output
+  // A bottom that puts the release line below the exit level (the particle "exited" at once,
+  // after no time), or one beyond the vertices' range.
+  write("low.toml", "mirror = true\nbottom = -1.37\n[left]\nvertices = [[-1, 1], [-0.1, 0]]\n");
+  expect_rejected(run("trajectory --release 0.3 --geometry " + path("low.toml") + out), "geometry bottom = -1.37",
+                  "above the exit level y = 0");
+  write("high.toml", "mirror = true\nbottom = 1e300\n[left]\nvertices = [[-1, 1], [-0.1, 0]]\n");
+  expect_rejected(run("trajectory --release 0.3 --geometry " + path("high.toml") + out), "geometry bottom = 1e+300",
+                  "|bottom| <= 1e6");
+  EXPECT_EQ(file_count(), 6u);  // the six geometry files, no output
 }
 
 TEST_F(Cli, TheVsAnglesAndGapAreRefusedWithAGeometryFile) {

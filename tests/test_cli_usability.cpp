@@ -101,6 +101,37 @@ TEST_F(Cli, OutThroughALinkToStandardOutputWritesToTheShellsStdout) {
   EXPECT_EQ(file_count(), 1u);
 }
 
+TEST_F(Cli, OutNeverReplacesTheRunsOwnInputs) {
+  // --out naming the --config or --geometry file (directly or through a link) is refused
+  // before any work, and the input is left as it was.
+  write("grid.toml", "theta = \"40:50:5\"\nsamples = 20\n");
+  expect_rejected(run("sweep --config " + path("grid.toml") + " --out " + path("grid.toml")), "grid.toml",
+                  "is the --config file");
+  EXPECT_EQ(read("grid.toml"), "theta = \"40:50:5\"\nsamples = 20\n");
+  write("walls.toml", "mirror = true\n[left]\nvertices = [[-2, 1.6], [-0.1, -0.365]]\n");
+  fs::create_symlink("walls.toml", path("link.toml"));
+  for (const std::string command : {"trajectory --release 0.3", "ensemble --samples 10", "sweep --e 0.5,0.9 --samples 10"}) {
+    expect_rejected(run(command + " --geometry " + path("walls.toml") + " --out " + path("link.toml")), "link.toml",
+                    "is the --geometry file");
+  }
+  EXPECT_EQ(read("walls.toml"), "mirror = true\n[left]\nvertices = [[-2, 1.6], [-0.1, -0.365]]\n");
+  EXPECT_EQ(file_count(), 3u);  // the inputs and the link, nothing else
+}
+
+TEST_F(Cli, ASideFileOrAFiguresFileInTheWayIsRefusedBeforeAnyWork) {
+  // A directory where a sweep's provenance (FILE.json) goes: refused at once, without the CSV or
+  // a partial file (it was found only after every point had been computed, leaving both).
+  fs::create_directories(path("s.csv.json"));
+  expect_rejected(run("sweep --theta 30:60:1 --samples 100 --out " + path("s.csv")), "s.csv.json", "is a directory");
+  EXPECT_FALSE(fs::exists(path("s.csv")));
+  EXPECT_FALSE(fs::exists(path("s.csv.partial")));
+  // The same for a figure's data file: no figure's data is written.
+  fs::create_directories(path("out/fig07/fig07.csv"));
+  expect_rejected(run("paper --out " + path("out") + " --only fig03,fig07 --quick --no-plots"), "fig07.csv",
+                  "is a directory");
+  EXPECT_FALSE(fs::exists(path("out/fig03/fig03.csv")));
+}
+
 TEST_F(Cli, OutToADeviceWritesThroughAndReportsAFullDevice) {
   // Device nodes like /dev/null (1, 3) and /dev/full (1, 7), made in the scratch directory.
   if (geteuid() != 0) GTEST_SKIP() << "mknod of a character device needs root; not run";
