@@ -32,8 +32,9 @@ void set_or_throw(Params& p, const std::string& name, double value, const std::s
   if (!set_parameter(p, name, value)) {
     // The table's integers are held as int64: a whole number beyond 9e18 is out of range.
     const bool whole = value == std::floor(value);
-    throw UsageError("invalid " + name + " = '" + text + "': " + (whole ? "out of range" : "not an integer") +
-                     "; valid range is " + std::string(valid_range(name)));
+    throw UsageError("invalid " + name + " = '" + text + "': " +
+                     (whole ? "out of range" : number(value) + " is not an integer") + "; valid range is " +
+                     std::string(valid_range(name)));
   }
 }
 
@@ -123,10 +124,7 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
     // silently ran with the default instead (found writing fuzz/fuzz_parse).
     for (const double v : *values) {
       Params probe = default_params();
-      if (!set_parameter(probe, name, v)) {
-        throw UsageError("invalid " + name + " = '" + it->second + "': " + number(v) +
-                         " is not an integer; valid range is " + std::string(valid_range(name)));
-      }
+      set_or_throw(probe, name, v, it->second);
     }
     axes.push_back({name, std::move(*values)});
   }

@@ -166,11 +166,12 @@ std::string partial_line(std::size_t i, const SavedPoint& p) {
   return std::to_string(i) + "," + std::to_string(p.capped) + "," + std::to_string(p.stalled) + "," + p.row;
 }
 
-/// Finished points in a partial file: its lines after the spec and the header.
+/// Finished points in a partial file: its complete lines (a line cut by a kill has no newline
+/// and is computed again) after the spec and the header.
 std::int64_t partial_points(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::int64_t lines = 0;
-  for (std::string line; std::getline(in, line);) ++lines;
+  const auto lines = static_cast<std::int64_t>(
+      std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
   return std::max<std::int64_t>(0, lines - 2);
 }
 
@@ -268,10 +269,11 @@ struct SweepCommand {
     if (target.regular()) {
       partial = target.path + ".partial";
       // A partial file without a finished point holds nothing to lose: it is started again.
-      if (!resume && !overwrite && std::filesystem::exists(partial) && partial_points(partial) > 0) {
-        throw UsageError("'" + partial + "' holds " + std::to_string(partial_points(partial)) +
-                         " finished points of an interrupted sweep: add --resume to continue it (same grid and "
-                         "options), or --overwrite to discard them and start again");
+      if (const std::int64_t saved = !resume && !overwrite && std::filesystem::exists(partial) ? partial_points(partial) : 0;
+          saved > 0) {
+        throw UsageError("'" + partial + "' holds " + std::to_string(saved) + " finished point" + (saved == 1 ? "" : "s") +
+                         " of an interrupted sweep: add --resume to continue it (same grid and options), or "
+                         "--overwrite to discard " + (saved == 1 ? "it" : "them") + " and start again");
       }
       if (resume) {
         std::vector<std::string> prefixes;  // each point's parameter columns and release_dist, as written
@@ -280,10 +282,12 @@ struct SweepCommand {
           line.back() = ',';
           prefixes.push_back(std::move(line));
         }
-        if (std::filesystem::exists(partial)) {
+        check_writable(partial);  // a directory of that name, say, is not a partial file
+        if (std::filesystem::exists(partial) && partial_points(partial) > 0) {
           done = read_partial(partial, spec_line, header, prefixes, options.samples);
         } else {
-          std::cerr << "funnel sweep: --resume: no partial file '" << partial << "' to continue; running every point\n";
+          std::cerr << "funnel sweep: --resume: no finished point in '" << partial << "' to continue"
+                    << (std::filesystem::exists(partial) ? "" : " (no such file)") << "; running every point\n";
         }
       }
       write_partial_start(partial, spec_line, header, done);

@@ -326,7 +326,7 @@ TEST_F(Cli, InterruptedSweepResumesToTheIdenticalResult) {
   EXPECT_FALSE(fs::exists(path("cut.csv.partial")));
   EXPECT_NE(read("cut.csv.json").find("\"resumed_points\""), std::string::npos);
   // A partial file of another sweep is refused, not mixed in; --overwrite discards it.
-  write("other.csv.partial", "# funnel sweep spec: {}\npoint,theta\n");
+  write("other.csv.partial", "# funnel sweep spec: {}\npoint,theta\n0,40\n");
   const std::string other = "sweep --theta 40 --samples 10 --out " + path("other.csv");
   expect_rejected(run(other + " --resume"), "resume", "different sweep");
   expect_rejected(run(other + " --resume --overwrite"), "--resume and --overwrite", "exclude");

@@ -141,7 +141,13 @@ TEST_F(Cli, ReleaseAndEnsembleOptionsAreValidated) {
   // A whole number beyond the int64 cap is out of range, not "not an integer"; the range says so.
   expect_rejected(run("trajectory --release 0 --max-collisions 9223372036854775807" + out), "max-collisions",
                   "'9223372036854775807': out of range; valid range is 1 <= max-collisions < 9e18 (an integer)");
-  expect_rejected(run("trajectory --release 0 --max-collisions 1.5" + out), "max-collisions", "'1.5': not an integer");
+  expect_rejected(run("trajectory --release 0 --max-collisions 1.5" + out), "max-collisions",
+                  "'1.5': 1.5 is not an integer");
+  // A sweep's values say the same (it called 1e19 "not an integer").
+  expect_rejected(run("sweep --samples 10 --max-collisions 5,1e19 --out " + path("s.csv")), "max-collisions",
+                  "'5,1e19': out of range; valid range is 1 <= max-collisions < 9e18 (an integer)");
+  expect_rejected(run("sweep --samples 10 --max-collisions 2.5 --out " + path("s.csv")), "max-collisions",
+                  "'2.5': 2.5 is not an integer");
   EXPECT_EQ(file_count(), 0u);
 }
 
@@ -386,7 +392,8 @@ TEST_F(Cli, ResumeWithNothingToResumeSaysSoAndAnEmptyPartialFileBlocksNothing) {
   // --resume without a partial file runs every point, and says that nothing was continued.
   const Result fresh = run(grid + " --resume");
   ASSERT_EQ(fresh.code, 0) << fresh.output;
-  EXPECT_NE(fresh.output.find("--resume: no partial file"), std::string::npos) << fresh.output;
+  EXPECT_NE(fresh.output.find("--resume: no finished point in '" + path("s.csv.partial") + "' to continue (no such file)"),
+            std::string::npos) << fresh.output;
   const std::string full = read("s.csv");
   // A partial file left before its first point was finished holds nothing to lose: not refused.
   const std::string spec = nlohmann::ordered_json::parse(read("s.csv.json"))["spec"].dump();
@@ -396,6 +403,22 @@ TEST_F(Cli, ResumeWithNothingToResumeSaysSoAndAnEmptyPartialFileBlocksNothing) {
   ASSERT_EQ(again.code, 0) << again.output;
   EXPECT_EQ(read("s.csv"), full);
   EXPECT_FALSE(fs::exists(path("s.csv.partial")));
+  // Nor with --resume, even empty (it was called "made by a different sweep").
+  write("s.csv.partial", "");
+  const Result empty = run(grid + " --resume");
+  ASSERT_EQ(empty.code, 0) << empty.output;
+  EXPECT_NE(empty.output.find("--resume: no finished point in"), std::string::npos) << empty.output;
+  EXPECT_EQ(read("s.csv"), full);
+  // A line cut by a kill (no newline) is not counted among the finished points.
+  const std::string first = full.substr(full.find('\n') + 1, full.find('\n', full.find('\n') + 1) - full.find('\n'));
+  write("s.csv.partial", partial_start(spec, full.substr(0, full.find('\n'))) + "0,0,0," + first + "1,0,0,50,0.9");
+  const Result refused = run(grid);
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("holds 1 finished point of"), std::string::npos) << refused.output;
+  // A directory where the partial file goes is named as such.
+  fs::remove(path("s.csv.partial"));
+  fs::create_directories(path("s.csv.partial"));
+  expect_rejected(run(grid + " --resume"), "s.csv.partial", "is a directory");
 }
 
 TEST_F(Cli, SamplesMayBeWrittenAsAnyWholeNumber) {

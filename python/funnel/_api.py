@@ -93,10 +93,20 @@ def _space(value):
 
 
 def _scalar(name, value):
-    """A model value as float; TypeError for anything that is not a real number."""
+    """A model value as float; TypeError for anything that is not a real number, ValueError
+    naming the parameter for an integer beyond the doubles (10**400: OverflowError otherwise)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, not {type(value).__name__}")
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:
+        try:
+            text = valid_range(name)
+        except ValueError:  # not a model parameter (max_time, release, ...)
+            text = "a finite real number"
+        digits = str(abs(int(value)))  # an integer with hundreds of digits, shown as d.dddde+N
+        shown = f"{'-' if value < 0 else ''}{digits[0]}.{digits[1:5]}e+{len(digits) - 1}"
+        raise ValueError(f"invalid {name} = {shown}: out of range; valid range is {text}") from None
 
 
 def _not_nan(name, value):
@@ -120,7 +130,8 @@ _COUNT_RANGES = {
     "wear-bins": (0, 10**6, "an integer 0 <= wear-bins <= 10^6"),
     "max_bounces": (1, 20, "an integer 1 <= max_bounces <= 20"),
     "scan_points": (16, 10**6, "an integer 16 <= scan_points <= 10^6"),
-    "max_coll": (1, 2**62, "an integer max_coll >= 1"),
+    "max_coll": (1, 9 * 10**18 - 1, "an integer 1 <= max_coll < 9e18"),
+    "max_collisions": (1, 9 * 10**18 - 1, "an integer 1 <= max_collisions < 9e18"),
     "window": (1, 10**6, "an integer 1 <= window <= 10^6"),
     "seed": (0, 2**64 - 1, "an integer 0 <= seed < 2^64"),
 }
@@ -684,11 +695,12 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
         if name == "max_time" and isinstance(cap, numbers.Real) and not 0 < cap < math.inf:
             raise ValueError(f"invalid {given} = {cap}: valid range is {given} > 0 (finite)")
         caps[name] = cap
+        caps[name + "_given"] = given
     release_dist = "line" if release_dist is None else str(release_dist)
     release, release_sd = _gaussian(release_dist, release, release_sd)
     result = _core().closed(_model("closed", model), _count("samples", samples), release_dist,
                             _count("threads", threads), _scalar("max_time", caps["max_time"]),
-                            _count("max_coll", caps["max_coll"]), _count("window", window),
+                            _count(caps["max_coll_given"], caps["max_coll"]), _count("window", window),
                             _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed),
                             _scalar("release", release), _scalar("release_sd", release_sd), _geometry(geometry))
     return result

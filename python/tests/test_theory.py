@@ -63,6 +63,11 @@ def test_closed_reports_the_caps_it_used():
     assert c["time"].max() <= 50.0
     with pytest.raises(ValueError, match="invalid max_time = inf: valid range is max_time > 0"):
         funnel.closed(theta=50, samples=8, max_time=float("inf"))
+    # The collision cap is named as given, with the range it is checked against.
+    for name in ("max_coll", "max_collisions"):
+        with pytest.raises(ValueError, match=rf"^invalid {name} = 10000000000000000000: valid range is an integer "
+                                             rf"1 <= {name} < 9e18$"):
+            funnel.closed(theta=50, samples=8, **{name: 10**19})
 
 
 def test_closed_takes_the_releases_and_the_geometry_funnel_closed_takes(cli, tmp_path):
