@@ -8,6 +8,7 @@
 #include "funnel/funnel.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/paper/records.hpp"
+#include "progress.hpp"
 
 namespace funnel::cli {
 
@@ -58,7 +59,11 @@ struct ClosedCommand {
     const Format fmt = to_format(format);
     check_writable(out, {{"geometry", model.geometry}});
 
-    const ClosedResult r = run_closed(params, ensemble, opt);
+    ClosedResult r;
+    {
+      ProgressBar bar("funnel closed");  // a bar on a terminal
+      r = run_closed(params, ensemble, opt, [&bar](std::int64_t done, std::int64_t total) { bar.update(done, total); });
+    }
     const double half_width = make_funnel(params).half_width;
     std::string text;
     if (fmt == Format::Json) {

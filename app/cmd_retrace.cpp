@@ -4,6 +4,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "progress.hpp"
 #include "funnel/geometry.hpp"
 #include "funnel/retrace.hpp"
 #include "funnel/paper/records.hpp"
@@ -56,6 +57,10 @@ struct RetraceCommand {
       throw UsageError("invalid theta = '" + theta + "': " + reason + "; valid range is " +
                        std::string(valid_range("theta")));
     }
+    // About 0.5 ms of one core per angle at the defaults, and every angle's orbits are held in
+    // memory: a finer grid than this is refused at once (it ran, silent, for hours).
+    check_grid_cap({{"theta", *thetas}}, 1e5, "each angle is a scan of --scan-points releases, and its orbits are "
+                                              "held in memory");
     for (const double t : *thetas) {
       Params p = base;
       p.theta = t;
@@ -70,7 +75,13 @@ struct RetraceCommand {
     if (windows_csv && fmt != Format::Csv) throw UsageError("invalid windows: --windows needs --format csv");
     check_writable(out);
 
-    const std::vector<retrace::Orbit> orbits = retrace::scan(base, *thetas, opt);
+    std::vector<retrace::Orbit> orbits;
+    {
+      ProgressBar bar("funnel retrace");  // a bar on a terminal; no summary line (the JSON may go to stdout)
+      opt.progress = [&bar](std::int64_t done, std::int64_t total) { bar.update(done, total); };
+      orbits = retrace::scan(base, *thetas, opt);
+      bar.finish(std::to_string(thetas->size()) + " angles scanned");
+    }
     const std::vector<retrace::Window> wins = retrace::windows(orbits, *thetas);
     std::string text;
     if (fmt == Format::Json) {

@@ -79,13 +79,15 @@ ClosedSample classify_release(const Params& params, double fraction, const Close
   return classify(p, fraction, t, watch);
 }
 
-ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, const ClosedOptions& options) {
+ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, const ClosedOptions& options,
+                        const Progress& progress) {
   const std::int64_t n = ensemble.samples;
   const Params p = closed_params(params, options);
   const Funnel g = make_funnel(p);
   ClosedResult r;
   r.samples.resize(static_cast<std::size_t>(n));
   const std::int64_t tasks = (n + closed_batch - 1) / closed_batch;
+  std::int64_t finished = 0;
   // Each task's releases run together, each with its own watch (simulate_many: the batched
   // path of a V); every sample is the same as classify_release's.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(ensemble.threads))
@@ -105,6 +107,10 @@ ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, c
     simulate_many(p, g, initial, out, watches);
     for (std::size_t i = 0; i < initial.size(); ++i) {
       r.samples[static_cast<std::size_t>(first) + i] = classify(p, fractions[i], out[i], watches[i]);
+    }
+    if (progress) {
+#pragma omp critical(funnel_closed_progress)
+      progress(++finished, tasks);
     }
   }
   for (const ClosedSample& s : r.samples) {

@@ -362,12 +362,17 @@ std::vector<Orbit> find_orbits(const Params& params, const Options& options) {
 std::vector<Orbit> scan(const Params& params, const std::vector<double>& thetas, const Options& options) {
   std::vector<std::vector<Orbit>> per(thetas.size());
   const auto n = static_cast<std::int64_t>(thetas.size());
+  std::int64_t finished = 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t i = 0; i < n; ++i) {
     if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
     Params p = params;
     p.theta = thetas[static_cast<std::size_t>(i)];
     per[static_cast<std::size_t>(i)] = find_orbits(p, options);
+    if (options.progress) {
+#pragma omp critical(funnel_retrace_progress)
+      options.progress(++finished, n);
+    }
   }
   std::vector<Orbit> out;
   for (auto& v : per) out.insert(out.end(), v.begin(), v.end());

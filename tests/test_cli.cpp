@@ -404,7 +404,14 @@ TEST_F(Cli, RetraceListsOrbitsAndWindowsAndRejectsAnotherMaterial) {
   expect_rejected(run("retrace --scan-points 2.5" + out), "scan-points", "2.5");
   expect_rejected(run("retrace --turns sideways" + out), "turns", "sideways");
   expect_rejected(run("retrace --windows" + out), "windows", "csv");
+  // A grid of millions of angles is refused at once (it ran for hours without a word).
+  expect_rejected(run("retrace --theta 1:89:0.0000089 --max-bounces 1" + out), "grid", "at most 100000 points");
   EXPECT_EQ(file_count(), files);  // nothing written
+  // Its progress is drawn on request (as on a terminal) and ends at 100%.
+  const Result shown = run("retrace --theta 40:50:1 --out " + path("p.json"), "FUNNEL_PROGRESS=always");
+  ASSERT_EQ(shown.code, 0) << shown.output;
+  EXPECT_NE(shown.output.find("funnel retrace ["), std::string::npos) << shown.output;
+  EXPECT_NE(shown.output.find("100%"), std::string::npos) << shown.output;
 }
 
 TEST_F(Cli, PaperRetraceChecksCanFail) {

@@ -232,6 +232,11 @@ TEST_F(Cli, ClosedDefaultsToElasticCollisionsAndHonoursItsCaps) {
   EXPECT_NE(help.output.find("(default 1 here"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("0 here, a closed funnel"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("(default 1e4 here)"), std::string::npos) << help.output;
+  // Its progress is drawn on request (as on a terminal) and ends at 100%.
+  const Result shown = run("closed --samples 2000 --out " + path("p.json"), "FUNNEL_PROGRESS=always");
+  ASSERT_EQ(shown.code, 0) << shown.output;
+  EXPECT_NE(shown.output.find("funnel closed ["), std::string::npos) << shown.output;
+  EXPECT_NE(shown.output.find("100%"), std::string::npos) << shown.output;
 }
 
 TEST_F(Cli, OrbitHelpListsOnlyTheOptionsItTakes) {

@@ -53,6 +53,8 @@ struct ClosedResult {
 };
 
 /// Classifies every release of an ensemble (in parallel; bit-identical for any thread count).
-ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, const ClosedOptions& options);
+/// `progress`, if given, is called with (finished tasks, tasks), one thread at a time.
+ClosedResult run_closed(const Params& params, const EnsembleOptions& ensemble, const ClosedOptions& options,
+                        const Progress& progress = {});
 
 }  // namespace funnel

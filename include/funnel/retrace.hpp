@@ -2,6 +2,8 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -42,6 +44,8 @@ struct Options {
   /// scan(): once set, the angles not yet begun are skipped (Ctrl-C in Python); the result is
   /// then incomplete and discarded.
   const std::atomic<bool>* cancel = nullptr;
+  /// scan(): called with (angles finished, angles), one thread at a time, if given.
+  std::function<void(std::int64_t, std::int64_t)> progress;
 };
 
 /// One self-retracing orbit in one funnel.
