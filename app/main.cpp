@@ -1,7 +1,9 @@
 // funnel: command-line entry point. Bad input exits with code 2 and writes no file; a failed write exits 1.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <csignal>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 
@@ -9,9 +11,23 @@
 #include "commands.hpp"
 #include "mpi_run.hpp"
 #include "suggest.hpp"
+#include "funnel/simd.hpp"
 #include "funnel/version.hpp"
 
 namespace {
+
+/// FUNNEL_SIMD naming no path this CPU runs is said once on stderr (the widest path is used):
+/// a misspelt path was ignored silently, so a user comparing paths compared the same one.
+void warn_unknown_simd_path() {
+  const char* env = std::getenv("FUNNEL_SIMD");
+  if (env == nullptr || *env == '\0') return;
+  const std::vector<std::string> paths = funnel::simd_paths();
+  if (std::find(paths.begin(), paths.end(), env) != paths.end()) return;
+  std::string valid;
+  for (const std::string& p : paths) valid += (valid.empty() ? "" : ", ") + p;
+  std::cerr << "funnel: warning: FUNNEL_SIMD = '" << env << "' is not a path this CPU runs (" << valid
+            << "); using " << funnel::simd_path() << "\n";
+}
 
 /// Parses the command line and runs the subcommand; returns the exit code.
 int run_command_line(int argc, char** argv) {
@@ -36,6 +52,7 @@ int run_command_line(int argc, char** argv) {
   funnel::cli::add_bench_command(app, command_line);
   for (const char* name : {"sweep", "ensemble", "paper"}) app.get_subcommand(name)->footer(funnel::cli::mpi_help());
 
+  warn_unknown_simd_path();
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

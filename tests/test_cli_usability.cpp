@@ -187,6 +187,19 @@ TEST_F(Cli, AnUnknownProgressSettingIsSaidOnceAndTheKnownOnesSilently) {
   }
 }
 
+TEST_F(Cli, AnEnginePathTheCpuDoesNotRunIsSaidOnceAndTheWidestUsed) {
+  // A misspelt FUNNEL_SIMD was ignored without a word: a user comparing paths timed one path twice.
+  const Result odd = run("trajectory --release 0.3 --out " + path("a.json"), "FUNNEL_SIMD=avx1024");
+  ASSERT_EQ(odd.code, 0) << odd.output;
+  const std::string warning = "funnel: warning: FUNNEL_SIMD = 'avx1024' is not a path this CPU runs (scalar";
+  const auto at = odd.output.find(warning);
+  EXPECT_NE(at, std::string::npos) << odd.output;
+  EXPECT_EQ(odd.output.find(warning, at + 1), std::string::npos) << odd.output;  // once
+  const Result known = run("trajectory --release 0.3 --out " + path("b.json"), "FUNNEL_SIMD=scalar");
+  ASSERT_EQ(known.code, 0) << known.output;
+  EXPECT_EQ(known.output.find("warning"), std::string::npos) << known.output;
+}
+
 TEST_F(Cli, MisspeltSubcommandsAndOptionsGetTheNearestNameAndTheirHelp) {
   const Result sub = run("trajectroy --release 0.3");
   EXPECT_EQ(sub.code, 2);
