@@ -187,6 +187,11 @@ TEST_F(Cli, OrbitReportsEigenvaluesStabilityAndJacobianAgreement) {
   EXPECT_NE(read("w.csv").find("\n60,0,0.4,0.5,"), std::string::npos) << read("w.csv");
   expect_rejected(run("orbit --theta 60 --radius 1 --out " + path("x.json")), "radius", "1");
   expect_rejected(run("orbit --theta 90 --out " + path("x.json")), "theta", "90");
+  // Below 1e-3 degrees its eigenvalues are not resolved (1e-8 came out "stable"): refused.
+  expect_rejected(run("orbit --theta 1e-8,60 --out " + path("x.json")), "theta = 1e-08",
+                  "1e-3 <= theta < 90 (degrees) for the orbit");
+  ASSERT_EQ(run("orbit --theta 1e-3 --out " + path("small.json")).code, 0);
+  EXPECT_EQ(json::parse(read("small.json"))["points"][0]["stable"], false);
 }
 
 TEST_F(Cli, ClosedReportsThePeriodicFraction) {

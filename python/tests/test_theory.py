@@ -34,6 +34,8 @@ def test_orbit_is_stable_exactly_above_45_degrees():
 def test_orbit_rejects_bad_input():
     with pytest.raises(ValueError, match="invalid theta = 95"):
         funnel.orbit(95.0)
+    with pytest.raises(ValueError, match=r"invalid theta = 1e-08: valid range is 1e-3 <= theta < 90"):
+        funnel.orbit(1e-8)
     with pytest.raises(ValueError, match="y-star"):
         funnel.orbit(60.0, y_star=-1.0)
     with pytest.raises(ValueError, match="invalid radius = 1: valid range is 1e-100 <= radius < 1"):
