@@ -455,7 +455,9 @@ TEST_F(Cli, PaperRefusesFigureDefinitionsOutOfRangeBeforeAnyWork) {
       {fig12 + "\n[settings]\ntheta = \"30:95:1\"\n", "invalid settings.theta = 90: valid range is 0 < theta < 90"},
       {fig12 + "\n[settings]\nscan_gap = 0.001\n", "settings.scan_gap: invalid gap = 0.001"},
       {fig12 + "\n[settings]\nturns = \"walls\"\n", "invalid turns = 'walls'"},
-      {fig12 + "\n[settings]\nbogus = 1\n", "unknown setting 'bogus'"}};
+      {fig12 + "\n[settings]\nbogus = 1\n", "unknown setting 'bogus'"},
+      {edited(fig12, "[check]\n", "[check]\ntolerance = \"x\"\n"), "[check] tolerance must be a finite number"},
+      {edited(fig12, "[check]\n", "[check]\nmin_ratoi = 2\n"), "unknown [check] key 'min_ratoi'; valid keys are"}};
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string dir = path("defs" + std::to_string(i));
     fs::create_directories(dir);

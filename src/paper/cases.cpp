@@ -143,6 +143,36 @@ void validate_settings(const FigureSpec& fig) {
   }
 }
 
+/// The [check] table: every key known, each a number or a text as the checks read it (an unknown
+/// key, or tolerance = "x", was ignored and the check "held" against its default).
+void validate_check(const FigureSpec& fig) {
+  static const std::vector<std::string> texts{"claim", "type", "observable", "panel"};
+  static const std::vector<std::string> numbers{"above", "below", "max_fraction", "median_halfwidth", "min_contrast",
+                                                "min_ratio", "min_ratio_off_plane", "min_run", "min_share",
+                                                "reference", "tolerance"};
+  static const std::vector<std::string> either{"series_value", "series_low"};  // a series value: text or number
+  const auto known = [](const std::vector<std::string>& keys, const std::string& key) {
+    return std::find(keys.begin(), keys.end(), key) != keys.end();
+  };
+  for (auto&& [k, node] : fig.check) {
+    const std::string key(k.str());
+    if (known(texts, key)) {
+      if (!node.is_string()) fail(fig.source, "[check] " + key + " must be a text (in quotes)");
+    } else if (known(numbers, key)) {
+      const auto v = node.value<double>();
+      if (!v || !std::isfinite(*v)) fail(fig.source, "[check] " + key + " must be a finite number");
+    } else if (known(either, key)) {
+      if (!node.is_string() && !node.is_number()) fail(fig.source, "[check] " + key + " must be a number or a text");
+    } else {
+      std::string valid;
+      for (const auto* list : {&texts, &numbers, &either}) {
+        for (const std::string& name : *list) valid += (valid.empty() ? "" : ", ") + name;
+      }
+      fail(fig.source, "unknown [check] key '" + key + "'; valid keys are " + valid);
+    }
+  }
+}
+
 /// Every parameter set the figure can run, checked as the command line checks its own, before
 /// any work: each panel at each grid point, and at each of the figure's thetas, mus and release
 /// positions (a definition read through --paper-dir ran at theta = 95 or e = 7 without a word).
@@ -283,6 +313,7 @@ FigureSpec load_figure(const std::string& path, bool quick) {
   }
   validate_figure(fig);
   validate_settings(fig);
+  validate_check(fig);
   return fig;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "funnel/paper/cases.hpp"
+#include "funnel/paper/records.hpp"
 
 namespace funnel::paper {
 
@@ -27,14 +28,26 @@ inline nlohmann::ordered_json verdict(const std::string& claim, const std::strin
 /// The claim text of a figure's [check] table.
 inline std::string claim_of(const FigureSpec& fig) { return fig.check["claim"].value_or(std::string()); }
 
+/// A number of a figure's table `table` ("check" or "settings"), or `fallback` when the key is
+/// absent; InputError when it is there but not a number (it fell back to the default silently,
+/// and a check then "held" against a tolerance nobody gave).
+inline double table_number(const FigureSpec& fig, const toml::table& t, const char* table, const char* key,
+                           double fallback) {
+  const toml::node* node = t.get(key);
+  if (node == nullptr) return fallback;
+  if (const auto v = node->value<double>()) return *v;
+  throw InputError("invalid figure definition '" + fig.source + "': [" + table + "] " + key +
+                   " is not a number; valid values are numbers (e.g. " + key + " = " + fmt(fallback) + ")");
+}
+
 /// A number of a figure's [check] table, or `fallback`.
 inline double check_number(const FigureSpec& fig, const char* key, double fallback) {
-  return fig.check[key].value<double>().value_or(fallback);
+  return table_number(fig, fig.check, "check", key, fallback);
 }
 
 /// A number of a figure's [settings] table, or `fallback`.
 inline double setting(const FigureSpec& fig, const char* key, double fallback) {
-  return fig.settings[key].value<double>().value_or(fallback);
+  return table_number(fig, fig.settings, "settings", key, fallback);
 }
 
 /// One panel per value, labelled "<symbol> = <value><unit>": ids a, b, c, ...
