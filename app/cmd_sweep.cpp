@@ -268,6 +268,8 @@ struct SweepCommand {
     std::map<std::size_t, SavedPoint> done;
     if (target.regular()) {
       partial = target.path + ".partial";
+      // Before anything reads it: a directory of that name, or the run's own input, is refused.
+      check_writable(partial, {{"config", config}, {"geometry", model.geometry}});
       // A partial file without a finished point holds nothing to lose: it is started again.
       if (const std::int64_t saved = !resume && !overwrite && std::filesystem::exists(partial) ? partial_points(partial) : 0;
           saved > 0) {
@@ -282,7 +284,6 @@ struct SweepCommand {
           line.back() = ',';
           prefixes.push_back(std::move(line));
         }
-        check_writable(partial);  // a directory of that name, say, is not a partial file
         if (std::filesystem::exists(partial) && partial_points(partial) > 0) {
           done = read_partial(partial, spec_line, header, prefixes, options.samples);
         } else {
@@ -428,6 +429,11 @@ struct SweepCommand {
     std::stringstream buffer;
     buffer << in.rdbuf();
     const std::string text = buffer.str();
+    if (text.rfind(spec_line + "point," + header, 0) == 0) {
+      throw UsageError("invalid resume: '" + path + "' was written by an earlier funnel sweep, whose lines lack the "
+                       "counts of capped and stalled runs that the warnings need; run with --overwrite instead of "
+                       "--resume to compute its points again");
+    }
     if (text.rfind(spec_line + partial_header(header), 0) != 0) {
       throw UsageError("invalid resume: '" + path + "' was made by a different sweep (grid, samples, release-dist, "
                        "geometry or funnel version); run with --overwrite instead of --resume to discard it");

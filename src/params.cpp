@@ -345,10 +345,9 @@ std::optional<ParamError> validate(const Params& params) {
 }
 
 std::optional<ParamError> validate_orbit(const Params& params) {
-  if (!(params.theta > 0.0 && params.theta < 90.0)) return error("theta", params.theta);
   // Below 1e-3 degrees the eigenvalues near 1 (1 +- O(theta)) are not resolved: at 1e-8 the
   // orbit came out "stable" and at 1e-200 every eigenvalue 0 (found by an audit).
-  if (params.theta < 1e-3) {
+  if (!(params.theta >= 1e-3 && params.theta < 90.0)) {
     return ParamError{"theta", format_number(params.theta),
                       "1e-3 <= theta < 90 (degrees) for the orbit: below it its eigenvalues 1 +- O(theta) are "
                       "not resolved in double precision"};

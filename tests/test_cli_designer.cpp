@@ -415,10 +415,15 @@ TEST_F(Cli, ResumeWithNothingToResumeSaysSoAndAnEmptyPartialFileBlocksNothing) {
   const Result refused = run(grid);
   EXPECT_EQ(refused.code, 2) << refused.output;
   EXPECT_NE(refused.output.find("holds 1 finished point of"), std::string::npos) << refused.output;
-  // A directory where the partial file goes is named as such.
+  // A directory where the partial file goes is named as such, with or without --resume.
   fs::remove(path("s.csv.partial"));
   fs::create_directories(path("s.csv.partial"));
   expect_rejected(run(grid + " --resume"), "s.csv.partial", "is a directory");
+  expect_rejected(run(grid), "s.csv.partial", "is a directory");
+  fs::remove(path("s.csv.partial"));
+  // A partial file of an earlier funnel sweep (no counts in its lines) is named as such.
+  write("s.csv.partial", "# funnel sweep spec: " + spec + "\npoint," + full.substr(0, full.find('\n') + 1) + "0," + first);
+  expect_rejected(run(grid + " --resume"), "s.csv.partial", "written by an earlier funnel sweep");
 }
 
 TEST_F(Cli, SamplesMayBeWrittenAsAnyWholeNumber) {

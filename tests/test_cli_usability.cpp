@@ -108,6 +108,12 @@ TEST_F(Cli, OutNeverReplacesTheRunsOwnInputs) {
   expect_rejected(run("sweep --config " + path("grid.toml") + " --out " + path("grid.toml")), "grid.toml",
                   "is the --config file");
   EXPECT_EQ(read("grid.toml"), "theta = \"40:50:5\"\nsamples = 20\n");
+  // Nor its side file: a config named like the partial file is not overwritten, then removed.
+  write("s.csv.partial", "theta = \"40:50:5\"\nsamples = 20\n");
+  expect_rejected(run("sweep --config " + path("s.csv.partial") + " --overwrite --out " + path("s.csv")),
+                  "s.csv.partial", "is the --config file");
+  EXPECT_EQ(read("s.csv.partial"), "theta = \"40:50:5\"\nsamples = 20\n");
+  fs::remove(path("s.csv.partial"));
   write("walls.toml", "mirror = true\n[left]\nvertices = [[-2, 1.6], [-0.1, -0.365]]\n");
   fs::create_symlink("walls.toml", path("link.toml"));
   for (const std::string command : {"trajectory --release 0.3", "ensemble --samples 10", "sweep --e 0.5,0.9 --samples 10"}) {

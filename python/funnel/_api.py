@@ -101,12 +101,12 @@ def _scalar(name, value):
         return float(value)
     except OverflowError:
         try:
-            text = valid_range(name)
-        except ValueError:  # not a model parameter (max_time, release, ...)
-            text = "a finite real number"
+            text = f"; valid range is {valid_range(name)}"
+        except ValueError:  # not a model parameter (max_time, release, ...): its own check has the range
+            text = ""
         digits = str(abs(int(value)))  # an integer with hundreds of digits, shown as d.dddde+N
         shown = f"{'-' if value < 0 else ''}{digits[0]}.{digits[1:5]}e+{len(digits) - 1}"
-        raise ValueError(f"invalid {name} = {shown}: out of range; valid range is {text}") from None
+        raise ValueError(f"invalid {name} = {shown}: out of range (beyond the largest double){text}") from None
 
 
 def _not_nan(name, value):
@@ -699,7 +699,7 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
     release_dist = "line" if release_dist is None else str(release_dist)
     release, release_sd = _gaussian(release_dist, release, release_sd)
     result = _core().closed(_model("closed", model), _count("samples", samples), release_dist,
-                            _count("threads", threads), _scalar("max_time", caps["max_time"]),
+                            _count("threads", threads), _scalar(caps["max_time_given"], caps["max_time"]),
                             _count(caps["max_coll_given"], caps["max_coll"]), _count("window", window),
                             _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed),
                             _scalar("release", release), _scalar("release_sd", release_sd), _geometry(geometry))
@@ -747,6 +747,9 @@ def retrace(theta, max_bounces=6, scan_points=1000, turns="wall", radius=0.01, g
     >>> r["orbits"]["sequence"], r["orbits"]["release"], r["orbits"]["stable"]
     """
     thetas = _axis_values("theta", theta)
+    if len(thetas) > 10**5:  # as funnel retrace: about 0.5 ms of a core per angle, every orbit held in memory
+        raise ValueError(f"invalid theta: {len(thetas)} angles; valid range is at most 100000 angles (each is a scan "
+                         "of scan_points releases, and its orbits are held in memory): use a coarser grid, or split it")
     if turns not in ("wall", "wall,rest", "rest,wall", "all"):
         raise ValueError(f"invalid turns = {turns!r}: valid values are wall, wall,rest (or all)")
     result = _core().retrace(thetas, _scalar("radius", radius), _scalar("gap", gap),

@@ -146,7 +146,7 @@ def test_ensemble_options_are_checked():
     with pytest.raises(ValueError, match="one-dimensional"):
         funnel.sweep(samples=4, theta=np.ones((2, 2)))
     # An integer beyond the doubles names its parameter (a bare OverflowError did not).
-    with pytest.raises(ValueError, match=r"^invalid theta = 1\.0000e\+400: out of range; valid range is 0 < theta < 90"):
+    with pytest.raises(ValueError, match=r"^invalid theta = 1\.0000e\+400: out of range \(beyond the largest double\); valid range is 0 < theta < 90"):
         funnel.simulate(0.3, theta=10**400)
     with pytest.raises(ValueError, match=r"^invalid theta = 1\.0000e\+400: out of range"):
         funnel.sweep(samples=4, theta=[40, 10**400])

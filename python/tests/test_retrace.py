@@ -139,3 +139,8 @@ def test_ctrl_c_interrupts_a_long_retrace_scan(ctrl_c):
     # 5001 angles with up to 12 bounces take minutes: Ctrl-C skips the angles not yet begun
     # (the scan ran to its end before raising).
     ctrl_c(lambda: funnel.retrace("30:80:0.01", max_bounces=12, threads=2))
+
+
+def test_a_grid_of_more_than_1e5_angles_is_refused_as_by_the_command_line():
+    with pytest.raises(ValueError, match=r"^invalid theta: 176001 angles; valid range is at most 100000 angles"):
+        funnel.retrace("1:89:0.0005")

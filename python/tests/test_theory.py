@@ -70,6 +70,8 @@ def test_closed_reports_the_caps_it_used():
         with pytest.raises(ValueError, match=rf"^invalid {name} = 10000000000000000000: valid range is an integer "
                                              rf"1 <= {name} < 9e18$"):
             funnel.closed(theta=50, samples=8, **{name: 10**19})
+    with pytest.raises(ValueError, match=r"^invalid t_max = 1\.0000e\+400: out of range"):
+        funnel.closed(theta=50, samples=8, t_max=10**400)
 
 
 def test_closed_takes_the_releases_and_the_geometry_funnel_closed_takes(cli, tmp_path):
