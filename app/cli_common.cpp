@@ -229,13 +229,20 @@ double option_number(const char* name, const std::string& text, const char* rang
   return *v;
 }
 
+/// A whole number written in any form (1000, 1e3, 1000.0), as --samples and --max-collisions
+/// take it, up to 2^53 (where every whole number is still a double); nothing when it is not one.
+std::optional<double> whole_number(const std::string& text) {
+  const auto v = parse_number(text);
+  if (!v || !(std::fabs(*v) <= 0x1p53) || *v != std::floor(*v)) return std::nullopt;
+  return *v;
+}
+
 std::int64_t option_integer(const char* name, const std::string& text, const char* range) {
   std::int64_t n = 0;
   const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
-  if (ec != std::errc() || ptr != text.data() + text.size()) {
-    throw UsageError("invalid " + std::string(name) + " = '" + text + "': not an integer; valid range is " + range);
-  }
-  return n;
+  if (ec == std::errc() && ptr == text.data() + text.size()) return n;
+  if (const auto v = whole_number(text)) return static_cast<std::int64_t>(*v);
+  throw UsageError("invalid " + std::string(name) + " = '" + text + "': not an integer; valid range is " + range);
 }
 
 }  // namespace
@@ -249,7 +256,12 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
     std::uint64_t seed = 0;
     const auto [ptr, ec] = std::from_chars(text.seed.data(), text.seed.data() + text.seed.size(), seed);
     if (ec != std::errc() || ptr != text.seed.data() + text.seed.size()) {
-      throw UsageError("invalid seed = '" + text.seed + "': valid range is an integer 0 <= seed < 2^64");
+      // A whole number in another form (1e3) up to 2^53; larger seeds are written as integers.
+      const auto v = whole_number(text.seed);
+      if (!v || *v < 0.0) {
+        throw UsageError("invalid seed = '" + text.seed + "': valid range is an integer 0 <= seed < 2^64");
+      }
+      seed = static_cast<std::uint64_t>(*v);
     }
     o.seed = seed;
   }

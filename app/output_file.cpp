@@ -134,6 +134,16 @@ OutputTarget resolve_output(const std::string& path, std::size_t side_suffix) {
   std::string cur = path;
   for (int links = 0;; ++links) {
     if (const auto fd = descriptor_alias(cur)) {
+      // Checked before any work: a closed descriptor was found only when the result was written.
+      const int flags = fcntl(*fd, F_GETFL);
+      const std::string name = *fd == 1 ? "standard output" : "descriptor " + std::to_string(*fd);
+      if (flags < 0) {
+        throw UsageError("invalid out = '" + path + "': " + name + " is not open; valid values are a file path, or - "
+                         "for an open standard output");
+      }
+      if ((flags & O_ACCMODE) == O_RDONLY) {
+        throw UsageError("invalid out = '" + path + "': " + name + " is open for reading only");
+      }
       t.kind = OutputTarget::Kind::Fd;
       t.fd = *fd;
       return t;

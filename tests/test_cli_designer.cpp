@@ -436,6 +436,18 @@ TEST_F(Cli, SamplesMayBeWrittenAsAnyWholeNumber) {
   EXPECT_EQ(a["samples"], 20);
   expect_rejected(run("ensemble --samples 1.5"), "samples", "'1.5': valid range is an integer 1 <= samples <= 10^9");
   expect_rejected(run("ensemble --samples 1e10"), "samples", "1e10");
+  // So may --wear-bins and --seed (they were refused as "not an integer" in that form).
+  for (const auto& [form, plain] : std::vector<std::pair<std::string, std::string>>{
+           {"--wear-bins 1e1", "--wear-bins 10"}, {"--seed 1e3 --release-dist uniform", "--seed 1000 --release-dist uniform"}}) {
+    json x = parse(run("ensemble --samples 20 " + form));
+    json y = parse(run("ensemble --samples 20 " + plain));
+    ASSERT_FALSE(x.is_null()) << form;
+    x.erase("provenance");
+    y.erase("provenance");
+    EXPECT_EQ(x, y) << form;
+  }
+  expect_rejected(run("ensemble --wear-bins 2.5"), "wear-bins", "'2.5': not an integer");
+  expect_rejected(run("ensemble --seed 1.5 --release-dist uniform"), "seed", "'1.5'");
 }
 
 }  // namespace

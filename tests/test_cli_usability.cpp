@@ -138,6 +138,18 @@ TEST_F(Cli, ASideFileOrAFiguresFileInTheWayIsRefusedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(path("out/fig03/fig03.csv")));
 }
 
+TEST_F(Cli, ADescriptorThatIsNotOpenForWritingIsRefusedBeforeAnyWork) {
+  // It was found only when the result was written, after the work (exit code 1).
+  expect_rejected(run("ensemble --samples 30 --out /proc/self/fd/9"), "'/proc/self/fd/9'", "descriptor 9 is not open");
+  write("in.json", "{}\n");
+  expect_rejected(run("ensemble --samples 30 --out /dev/fd/9 9<" + path("in.json")), "'/dev/fd/9'",
+                  "descriptor 9 is open for reading only");
+  EXPECT_EQ(read("in.json"), "{}\n");
+  // Open for writing, it is written through.
+  ASSERT_EQ(run("ensemble --samples 30 --out /dev/fd/9 9>" + path("out.json")).code, 0);
+  EXPECT_NE(read("out.json").find("\"duration\""), std::string::npos);
+}
+
 TEST_F(Cli, OutToADeviceWritesThroughAndReportsAFullDevice) {
   // Device nodes like /dev/null (1, 3) and /dev/full (1, 7), made in the scratch directory.
   if (geteuid() != 0) GTEST_SKIP() << "mknod of a character device needs root; not run";
