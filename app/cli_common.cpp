@@ -106,7 +106,7 @@ Space to_space(const std::string& text) {
   return *s;
 }
 
-std::vector<Axis> to_axes(const ModelOptions& options) {
+std::vector<Axis> to_axes(const ModelOptions& options, double max_points, const std::string& why) {
   std::vector<Axis> axes;
   for (const ParameterInfo& info : parameters(Space::ThreeD)) {
     // 3D parameters too: in 2D, validate_all then rejects any value but their default.
@@ -127,6 +127,7 @@ std::vector<Axis> to_axes(const ModelOptions& options) {
       set_or_throw(probe, name, v, it->second);
     }
     axes.push_back({name, std::move(*values)});
+    check_grid_cap(axes, max_points, why);
   }
   return axes;
 }

@@ -36,8 +36,8 @@ struct OrbitCommand {
     }
     const auto ys = parse_number(y_star);
     if (!ys || !(*ys > 0.0)) throw UsageError("invalid y-star = '" + y_star + "': valid range is y-star > 0");
-    const std::vector<Axis> axes = to_axes(model);
-    check_grid_cap(axes, 1e6, "the output holds each point's four eigenvalues, about 500 bytes of JSON");
+    const std::vector<Axis> axes =
+        to_axes(model, 1e6, "the output holds each point's four eigenvalues, about 500 bytes of JSON");
     const std::vector<Params> points = expand_grid(default_params(), axes);
     // The orbit's own parameters only: the funnel's gap and release line play no part in it.
     for (const Params& p : points) {

@@ -217,7 +217,10 @@ struct SweepCommand {
     }
     if (resume && overwrite) throw UsageError("invalid options: --resume and --overwrite exclude each other");
     const Space sp = to_space(space);
-    const std::vector<Axis> axes = to_axes(merged);
+    // Even with --yes: each point's row (about 2 kB) is held in memory, and copied once more
+    // into the output.
+    const std::vector<Axis> axes =
+        to_axes(merged, max_sweep_points, "even with --yes: every point's row, about 2 kB, is held in memory twice");
     const EnsembleOptions options = to_ensemble_options(merged_ens);
     const Ensemble3Options options3 =
         sp == Space::ThreeD ? to_ensemble3_options(options, dist_given) : Ensemble3Options{};
@@ -228,9 +231,6 @@ struct SweepCommand {
       row.emplace_back(to_string(dist));
       return row;
     };
-    // Even with --yes: each point's row (about 2 kB) is held in memory, and copied once more
-    // into the output.
-    check_grid_cap(axes, max_sweep_points, "even with --yes: every point's row, about 2 kB, is held in memory twice");
     check_size(axes, options);
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
     validate_all(points, sp);
