@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace funnel {
 
@@ -42,7 +43,8 @@ Summary summarize(const Accumulator& acc) {
   Summary s;
   if (acc.n == 0) return s;
   s.mean = acc.mean;
-  s.std = acc.n > 1 ? std::sqrt(acc.m2 / static_cast<double>(acc.n - 1)) : 0.0;
+  // One sample has no spread to estimate (n - 1 = 0): undefined, not 0, which read as no error.
+  s.std = acc.n > 1 ? std::sqrt(acc.m2 / static_cast<double>(acc.n - 1)) : std::numeric_limits<double>::quiet_NaN();
   s.sem = s.std / std::sqrt(static_cast<double>(acc.n));
   s.min = acc.min;
   s.max = acc.max;

@@ -58,6 +58,22 @@ TEST(Stats, WelfordMergeMatchesTwoPassStatistics) {
   EXPECT_EQ(s.max, summarize(all).max);
 }
 
+TEST(Stats, OneSampleHasAMeanButNoSpread) {
+  // The n - 1 of the standard deviation leaves nothing to estimate the spread from: undefined
+  // (null in JSON, an empty CSV field), not 0, which read as an exact mean.
+  Accumulator one;
+  one.add(2.5);
+  const Summary s = summarize(one);
+  EXPECT_EQ(s.mean, 2.5);
+  EXPECT_EQ(s.min, 2.5);
+  EXPECT_EQ(s.max, 2.5);
+  EXPECT_TRUE(std::isnan(s.std));
+  EXPECT_TRUE(std::isnan(s.sem));
+  Accumulator two = one;
+  two.add(3.5);
+  EXPECT_EQ(summarize(two).std, std::sqrt(0.5));
+}
+
 TEST(Ensemble, ResultsAreBitIdenticalForOneAndManyThreads) {
   Params p = default_params();
   p.theta = 47.0;
