@@ -235,10 +235,11 @@ struct SweepCommand {
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
     validate_all(points, sp);
     const OutputTarget target = resolve_output(out, sizeof(".partial") - 1);
-    check_not_input(out, target, {{"config", config}, {"geometry", model.geometry}});
+    const std::vector<InputFile> inputs{{"config", config}, {"geometry", model.geometry}};
+    check_not_input(out, target, inputs);
     // The side file of the provenance, before any work: a directory or an unwritable file in its
     // place would otherwise be found only once every point is computed.
-    if (target.regular()) check_writable(target.path + ".json", {{"config", config}, {"geometry", model.geometry}});
+    if (target.regular()) check_writable(target.path + ".json", inputs);
 
     std::vector<std::string> cols = param_columns(sp);
     cols.push_back("release_dist");
@@ -269,7 +270,7 @@ struct SweepCommand {
     if (target.regular()) {
       partial = target.path + ".partial";
       // Before anything reads it: a directory of that name, or the run's own input, is refused.
-      check_writable(partial, {{"config", config}, {"geometry", model.geometry}});
+      check_writable(partial, inputs);
       // A partial file without a finished point holds nothing to lose: it is started again.
       if (const std::int64_t saved = !resume && !overwrite && std::filesystem::exists(partial) ? partial_points(partial) : 0;
           saved > 0) {

@@ -25,7 +25,6 @@ using paper::params_json;
 using paper::trajectory_json;
 using paper::trajectory_row;
 
-
 /// Observables of one 3D trajectory (exit ones null if it did not exit), with "orbits_signed".
 nlohmann::ordered_json trajectory_json(const Trajectory3& t);
 /// Column names and values of one 3D trajectory's observables (status first, then periodic and

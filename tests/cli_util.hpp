@@ -71,6 +71,13 @@ inline std::string partial_start(const std::string& spec, const std::string& hea
   return "# funnel sweep spec: " + spec + "\npoint,capped,stalled," + header + "\n";
 }
 
+/// `warning` appears in the output exactly once.
+inline void expect_said_once(const Result& r, const std::string& warning) {
+  const auto at = r.output.find(warning);
+  EXPECT_NE(at, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(warning, at + 1), std::string::npos) << r.output;  // (at npos: from 0, still npos)
+}
+
 /// Exit code 2, and the message names the parameter and the value.
 inline void expect_rejected(const Result& r, const std::string& name, const std::string& value) {
   EXPECT_EQ(r.code, 2) << r.output;

@@ -694,13 +694,12 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
         given = alias if from_alias else name
         if name == "max_time" and isinstance(cap, numbers.Real) and not 0 < cap < math.inf:
             raise ValueError(f"invalid {given} = {cap}: valid range is {given} > 0 (finite)")
-        caps[name] = cap
-        caps[name + "_given"] = given
+        caps[name] = (given, cap)
     release_dist = "line" if release_dist is None else str(release_dist)
     release, release_sd = _gaussian(release_dist, release, release_sd)
     result = _core().closed(_model("closed", model), _count("samples", samples), release_dist,
-                            _count("threads", threads), _scalar(caps["max_time_given"], caps["max_time"]),
-                            _count(caps["max_coll_given"], caps["max_coll"]), _count("window", window),
+                            _count("threads", threads), _scalar(*caps["max_time"]),
+                            _count(*caps["max_coll"]), _count("window", window),
                             _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed),
                             _scalar("release", release), _scalar("release_sd", release_sd), _geometry(geometry))
     return result

@@ -22,8 +22,10 @@ namespace py = pybind11;
 
 namespace {
 
+using funnel::py_convert::add_param_columns;
 using funnel::py_convert::check_sweep_axes;
 using funnel::py_convert::column;
+using funnel::py_convert::params_dict;
 using funnel::py_convert::run_interruptible;
 using funnel::py_convert::text_column;
 
@@ -37,18 +39,6 @@ funnel::Params make_params_3d(const std::map<std::string, double>& model) {
   }
   if (const auto err = funnel::validate(p, funnel::Space::ThreeD)) throw py::value_error(err->message());
   return p;
-}
-
-py::dict params_dict_3d(const funnel::Params& p) {
-  py::dict d;
-  for (const funnel::ParameterInfo& info : funnel::parameters(funnel::Space::ThreeD)) {
-    if (info.integer) {
-      d[py::str(info.key())] = static_cast<std::int64_t>(info.get(p));
-    } else {
-      d[py::str(info.key())] = info.get(p);
-    }
-  }
-  return d;
 }
 
 py::object observable_value(const funnel::ObservableInfo& o, double v) {
@@ -159,7 +149,7 @@ py::dict simulate_3d(const std::map<std::string, double>& model, double release,
   }
   py::dict d;
   d["space"] = "3d";
-  d["params"] = params_dict_3d(params);
+  d["params"] = params_dict(params, funnel::Space::ThreeD);
   d["release"] = release;
   d["x0"] = s.r.x;
   d["y0"] = s.r.y;
@@ -183,7 +173,7 @@ py::dict ensemble_3d(const std::map<std::string, double>& model, std::int64_t sa
   run_interruptible(o, progress, [&](const funnel::Progress& report) { r = funnel::run_ensemble_3d(params, o, report); });
   py::dict d;
   d["space"] = "3d";
-  d["params"] = params_dict_3d(params);
+  d["params"] = params_dict(params, funnel::Space::ThreeD);
   d["release_dist"] = std::string(funnel::to_string(o.dist));
   if (o.velocity_sd > 0.0) d["seed"] = o.seed;
   d["velocity_sd"] = o.velocity_sd;
@@ -240,15 +230,7 @@ py::dict sweep_3d(const std::vector<std::pair<std::string, std::vector<double>>>
   run_interruptible(o, progress, [&](const funnel::Progress& report) { results = funnel::run_sweep_3d(points, o, report); });
   py::dict d;
   const std::size_t n = points.size();
-  for (const funnel::ParameterInfo& info : funnel::parameters(funnel::Space::ThreeD)) {
-    if (!info.option) continue;
-    if (info.integer) {
-      d[py::str(info.key())] =
-          column<std::int64_t>(n, [&](std::size_t i) { return static_cast<std::int64_t>(info.get(points[i])); });
-    } else {
-      d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return info.get(points[i]); });
-    }
-  }
+  add_param_columns(d, points, funnel::Space::ThreeD);
   // As funnel sweep --space 3d's CSV: the distribution and the sample count after the parameters.
   d["release_dist"] = text_column(n, [&](std::size_t) { return funnel::to_string(o.dist); });
   d["samples"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].samples; });

@@ -35,8 +35,10 @@ namespace py = pybind11;
 namespace {
 
 using funnel::Params;
+using funnel::py_convert::add_param_columns;
 using funnel::py_convert::check_sweep_axes;
 using funnel::py_convert::column;
+using funnel::py_convert::params_dict;
 using funnel::py_convert::run_interruptible;
 using funnel::py_convert::text_column;
 
@@ -190,19 +192,6 @@ py::dict geometry_record(const Params& params) {
   return d;
 }
 
-/// Every parameter by its output key, as the CLI's "params".
-py::dict params_dict(const Params& p) {
-  py::dict d;
-  for (const funnel::ParameterInfo& info : funnel::parameters()) {
-    if (info.integer) {
-      d[py::str(info.key())] = static_cast<std::int64_t>(info.get(p));
-    } else {
-      const double v = funnel::reported_value(info, p);
-      d[py::str(info.key())] = std::isnan(v) ? py::object(py::none()) : py::object(py::float_(v));
-    }
-  }
-  return d;
-}
 
 /// A Python number for an observable's value: int for counts, None where undefined (NaN).
 py::object observable_value(const funnel::ObservableInfo& o, double v) {
@@ -446,15 +435,7 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
 
   const std::size_t n = points.size();
   py::dict d;  // the CSV columns of `funnel sweep`, in order
-  for (const funnel::ParameterInfo& info : funnel::parameters()) {
-    if (!info.option) continue;
-    if (info.integer) {
-      d[py::str(info.key())] =
-          column<std::int64_t>(n, [&](std::size_t i) { return static_cast<std::int64_t>(info.get(points[i])); });
-    } else {
-      d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return funnel::reported_value(info, points[i]); });
-    }
-  }
+  add_param_columns(d, points, funnel::Space::TwoD);
   d["release_dist"] = text_column(n, [&](std::size_t) { return funnel::to_string(options.dist); });
   d["samples"] = column<std::int64_t>(n, [&](std::size_t i) { return results[i].samples; });
   for (const funnel::ObservableInfo& o : funnel::observables()) {

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
@@ -129,6 +130,36 @@ inline void check_sweep_axes(const std::vector<funnel::Axis>& axes) {
   if (points > funnel::max_sweep_points) {
     throw py::value_error("invalid grid: " + funnel::format_number(points) +
                           " points; valid range is at most 2e+06 points (as funnel sweep): split it into several runs");
+  }
+}
+
+/// Every parameter of the space by its output key, as the CLI's "params": None for one that a
+/// geometry file leaves unused (funnel::reported_value).
+inline py::dict params_dict(const funnel::Params& p, funnel::Space space = funnel::Space::TwoD) {
+  py::dict d;
+  for (const funnel::ParameterInfo& info : funnel::parameters(space)) {
+    if (info.integer) {
+      d[py::str(info.key())] = static_cast<std::int64_t>(info.get(p));
+    } else {
+      const double v = funnel::reported_value(info, p);
+      d[py::str(info.key())] = std::isnan(v) ? py::object(py::none()) : py::object(py::float_(v));
+    }
+  }
+  return d;
+}
+
+/// The parameter columns of a sweep's points into `d`, in the order of the CLI's CSV: NaN for
+/// one that a geometry file leaves unused.
+inline void add_param_columns(py::dict& d, const std::vector<funnel::Params>& points, funnel::Space space) {
+  const std::size_t n = points.size();
+  for (const funnel::ParameterInfo& info : funnel::parameters(space)) {
+    if (!info.option) continue;
+    if (info.integer) {
+      d[py::str(info.key())] =
+          column<std::int64_t>(n, [&](std::size_t i) { return static_cast<std::int64_t>(info.get(points[i])); });
+    } else {
+      d[py::str(info.key())] = column<double>(n, [&](std::size_t i) { return funnel::reported_value(info, points[i]); });
+    }
   }
 }
 
