@@ -60,6 +60,21 @@ STATISTICS = ("mean", "std", "sem", "min", "max")
 DEFAULT_SAMPLES = 4000
 
 
+def _warn_unknown_simd_path():
+    """FUNNEL_SIMD naming no path this CPU runs is said once, at import, as the command line says
+    it: the widest path is used, and a user comparing paths would compare one path with itself."""
+    name = os.environ.get("FUNNEL_SIMD", "")
+    if _funnel is None or not name:
+        return
+    paths = list(_funnel.simd_paths())
+    if name not in paths:
+        warnings.warn(f"FUNNEL_SIMD = {name!r} is not a path this CPU runs ({', '.join(paths)}); "
+                      f"using {_funnel.simd_path()}", RuntimeWarning, stacklevel=2)
+
+
+_warn_unknown_simd_path()
+
+
 def _core():
     if _funnel is None:
         import sys
@@ -155,11 +170,18 @@ def _count(name, value):
     return n
 
 
-def _seed(value):
-    """The random seed, an integer 0 <= seed < 2^64."""
+def _seed(value, release_dist, velocity_sd):
+    """The random seed, an integer 0 <= seed < 2^64 (None: 1). As on the command line, a seed
+    given where nothing is drawn at random is refused: two seeds would look like two samples."""
+    if value is None:
+        return 1
     seed = _count("seed", value)
     if not 0 <= seed < 2**64:
         raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64")
+    if release_dist not in ("uniform", "gaussian") and not (velocity_sd > 0 or math.isnan(velocity_sd)):
+        raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64, with random "
+                         "releases or velocities only (release_dist \"uniform\" or \"gaussian\", or "
+                         "velocity_sd > 0; these releases draw no random number)")
     return seed
 
 
@@ -374,7 +396,7 @@ def _progress_callback(progress, what):
     return update
 
 
-def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=False, seed=1, release=None,
+def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=False, seed=None, release=None,
              release_sd=None, velocity_sd=0.0, wear_bins=0, progress=False, space="2d", geometry=None, **model):
     """Statistics of the observables over ``samples`` releases, like ``funnel ensemble``.
 
@@ -398,9 +420,11 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
         Worker threads, 0 = all cores. Results are bit-identical for any count.
     per_sample : bool
         Also return every trajectory's observables.
-    seed : int
+    seed : int or None
         Key of the counter-based random numbers (uniform, gaussian, velocity_sd): sample k's
-        random numbers depend on (seed, k) only.
+        random numbers depend on (seed, k) only. None: 1. As on the command line, a seed given
+        where nothing is drawn at random ("line" or "disk" releases without velocity_sd) raises
+        ValueError: two seeds would look like two samples.
     release, release_sd : float or None
         Mean and standard deviation of x0/L for "gaussian" (None: 0 and 0.1); refused with
         another distribution, where they would mean nothing.
@@ -441,10 +465,12 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
             raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
         if _wear_bins(wear_bins) != 0:
             raise ValueError(f"invalid wear-bins = {wear_bins}: valid range is 0 in 3d (the wear record is 2D only)")
-        _gaussian("disk" if release_dist is None else str(release_dist), release, release_sd)
-        result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples),
-                                  "disk" if release_dist is None else str(release_dist), _count("threads", threads),
-                                  _flag("per_sample", per_sample), _seed(seed), _scalar("velocity_sd", velocity_sd),
+        release_dist = "disk" if release_dist is None else str(release_dist)
+        _gaussian(release_dist, release, release_sd)
+        velocity_sd = _scalar("velocity_sd", velocity_sd)
+        result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples), release_dist,
+                                  _count("threads", threads), _flag("per_sample", per_sample),
+                                  _seed(seed, release_dist, velocity_sd), velocity_sd,
                                   _progress_callback(progress, "ensemble"))
         if per_sample:
             _text_columns(result["per_sample"], ("status",))
@@ -452,12 +478,14 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
                       "'stalled' for each sample" if per_sample else "the count 'stalled'; each sample's with per_sample")
         _warn_capped(result["capped"], result["samples"], int(result["params"]["max_collisions"]))
         return result
-    release_dist = "line" if release_dist is None else release_dist
-    release, release_sd = _gaussian(str(release_dist), release, release_sd)
-    result = core.ensemble(_model("ensemble", model), _count("samples", samples), str(release_dist),
-                           _count("threads", threads), _flag("per_sample", per_sample), _seed(seed),
+    release_dist = "line" if release_dist is None else str(release_dist)
+    release, release_sd = _gaussian(release_dist, release, release_sd)
+    velocity_sd = _scalar("velocity_sd", velocity_sd)
+    result = core.ensemble(_model("ensemble", model), _count("samples", samples), release_dist,
+                           _count("threads", threads), _flag("per_sample", per_sample),
+                           _seed(seed, release_dist, velocity_sd),
                            _scalar("release", release), _scalar("release_sd", release_sd),
-                           _scalar("velocity_sd", velocity_sd), _wear_bins(wear_bins),
+                           velocity_sd, _wear_bins(wear_bins),
                            _progress_callback(progress, "ensemble"), _geometry(geometry))
     if per_sample:
         _text_columns(result["per_sample"], ("status",))
@@ -487,7 +515,7 @@ def _axis_numbers(name, value):
     return [_scalar(name, v) for v in array.tolist()]
 
 
-def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release=None, release_sd=None,
+def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=None, release=None, release_sd=None,
           velocity_sd=0.0, progress=False, space="2d", geometry=None, **model):
     """One ensemble per point of a parameter grid, like ``funnel sweep``.
 
@@ -520,24 +548,25 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=1, release
         if geometry is not None:
             raise ValueError("invalid geometry: a 2D funnel only (the 3D funnel is the cone of theta and gap)")
         _check_names("sweep", model, "3d")
-        _gaussian("disk" if release_dist is None else str(release_dist), release, release_sd)
+        release_dist = "disk" if release_dist is None else str(release_dist)
+        _gaussian(release_dist, release, release_sd)
+        velocity_sd = _scalar("velocity_sd", velocity_sd)
         axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
                 if name in model]
-        result = _text_columns(core.sweep_3d(axes, _count("samples", samples),
-                                             "disk" if release_dist is None else str(release_dist),
-                                             _count("threads", threads), _seed(seed),
-                                             _scalar("velocity_sd", velocity_sd),
-                                             _progress_callback(progress, "sweep")), ("release_dist",))
+        result = _text_columns(core.sweep_3d(axes, _count("samples", samples), release_dist,
+                                             _count("threads", threads), _seed(seed, release_dist, velocity_sd),
+                                             velocity_sd, _progress_callback(progress, "sweep")), ("release_dist",))
         _warn_stalled(int(result["stalled"].sum()), int(result["samples"].sum()), "the column 'stalled'")
         _warn_sweep_capped(result)
         return result
-    release_dist = "line" if release_dist is None else release_dist
-    release, release_sd = _gaussian(str(release_dist), release, release_sd)
+    release_dist = "line" if release_dist is None else str(release_dist)
+    release, release_sd = _gaussian(release_dist, release, release_sd)
+    velocity_sd = _scalar("velocity_sd", velocity_sd)
     _check_names("sweep", model)
     axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS if name in model]
-    result = core.sweep(axes, _count("samples", samples), str(release_dist), _count("threads", threads),
-                        _seed(seed), _scalar("release", release), _scalar("release_sd", release_sd),
-                        _scalar("velocity_sd", velocity_sd), _progress_callback(progress, "sweep"),
+    result = core.sweep(axes, _count("samples", samples), release_dist, _count("threads", threads),
+                        _seed(seed, release_dist, velocity_sd), _scalar("release", release),
+                        _scalar("release_sd", release_sd), velocity_sd, _progress_callback(progress, "sweep"),
                         _geometry(geometry))
     _warn_sweep_capped(result)
     return _text_columns(result, ("release_dist",))
@@ -653,7 +682,7 @@ def orbit(theta, beta0=0.0, inertia=0.4, radius=0.01, y_star=0.5):
 
 
 def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=None, max_coll=None,
-           window=20, slip_tol=1e-6, height_tol=1e-6, seed=1, release=None, release_sd=None, geometry=None,
+           window=20, slip_tol=1e-6, height_tol=1e-6, seed=None, release=None, release_sd=None, geometry=None,
            **model):
     """Long-time state of every release in a closed funnel (gap 0), like ``funnel closed``.
 
@@ -700,7 +729,7 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
     result = _core().closed(_model("closed", model), _count("samples", samples), release_dist,
                             _count("threads", threads), _scalar(*caps["max_time"]),
                             _count(*caps["max_coll"]), _count("window", window),
-                            _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed),
+                            _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed, release_dist, 0.0),
                             _scalar("release", release), _scalar("release_sd", release_sd), _geometry(geometry))
     return result
 

@@ -78,6 +78,26 @@ def test_bad_options_raise_with_the_library_message():
         funnel.simulate(release=0.0, wear_bins=-3)
 
 
+def test_a_seed_where_nothing_is_random_is_refused_as_on_the_command_line():
+    # Python took seed=5 with line releases and ran seed 1's ensemble: two seeds, one sample.
+    refusal = r"^invalid seed = 5: valid range is an integer 0 <= seed < 2\^64, with random releases or velocities only"
+    for run in (lambda: funnel.ensemble(samples=20, seed=5),
+                lambda: funnel.sweep(theta=[40, 50], samples=20, seed=5),
+                lambda: funnel.closed(theta=50, samples=20, seed=5),
+                lambda: funnel.ensemble(samples=20, seed=5, space="3d", t_max=20),
+                lambda: funnel.sweep(theta=50, samples=20, seed=5, space="3d", t_max=20)):
+        with pytest.raises(ValueError, match=refusal):
+            run()
+    assert "seed" not in funnel.ensemble(samples=20)
+    # Where something is drawn, the seed keys it: None is seed 1.
+    a = funnel.ensemble(samples=40, release_dist="uniform", per_sample=True)
+    b = funnel.ensemble(samples=40, release_dist="uniform", seed=1, per_sample=True)
+    c = funnel.ensemble(samples=40, release_dist="uniform", seed=2, per_sample=True)
+    assert a["seed"] == 1 and a["per_sample"]["release"].tobytes() == b["per_sample"]["release"].tobytes()
+    assert c["seed"] == 2 and c["per_sample"]["release"].tobytes() != a["per_sample"]["release"].tobytes()
+    assert funnel.ensemble(samples=20, velocity_sd=0.01, seed=5)["seed"] == 5
+
+
 def test_progress_reports_every_work_unit():
     seen = []
     funnel.ensemble(samples=400, progress=lambda done, total: seen.append((done, total)))

@@ -36,6 +36,22 @@ def test_an_unknown_path_names_the_valid_ones():
         funnel.simd_path("avx1024")
 
 
+def test_a_misspelt_funnel_simd_is_said_once_at_import():
+    # As the command line says it: a misspelt path was used silently as the widest one.
+    import os
+    import subprocess
+    import sys
+    code = "import warnings; warnings.simplefilter('default'); import funnel; print(funnel.simd_path())"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    odd = subprocess.run([sys.executable, "-c", code], env=dict(env, FUNNEL_SIMD="avx1024"),
+                         capture_output=True, text=True, check=True)
+    assert odd.stderr.count("FUNNEL_SIMD = 'avx1024' is not a path this CPU runs (scalar") == 1, odd.stderr
+    assert odd.stdout.strip() == funnel.simd_paths()[-1]
+    known = subprocess.run([sys.executable, "-c", code], env=dict(env, FUNNEL_SIMD="scalar"),
+                           capture_output=True, text=True, check=True)
+    assert "FUNNEL_SIMD" not in known.stderr and known.stdout.strip() == "scalar"
+
+
 def test_the_bench_picture_draws_a_bar_per_path_and_refuses_other_json(tmp_path):
     import subprocess
     import sys
