@@ -72,6 +72,10 @@ void add_geometry_option(CLI::App& app, ModelOptions& options) {
 
 Params base_params(const ModelOptions& options) {
   Params p = default_params();
+  if (const auto theta = options.given.find("theta");
+      theta != options.given.end() && options.given.contains("theta-left") && options.given.contains("theta-right")) {
+    throw UsageError("invalid theta = " + theta->second + ": valid range is " + std::string(not_with_both_sides));
+  }
   if (!options.geometry.empty()) {
     // The file's walls replace the V, and their own materials the parameters': such a parameter
     // given too would be ignored, yet recorded in the output as if it had been used (and a sweep
@@ -158,6 +162,14 @@ void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std:
 void validate_all(const std::vector<Params>& points, Space space) {
   for (const Params& p : points) {
     if (const auto err = validate(p, space)) throw UsageError(err->message());
+  }
+}
+
+void validate_all(const std::vector<Params>& points, Space space, const EnsembleOptions& options) {
+  validate_all(points, space);
+  if (space == Space::ThreeD) return;  // the 3D funnel is a cone: disk releases are its own
+  for (const Params& p : points) {
+    if (const auto err = validate(p, options)) throw UsageError(err->message());
   }
 }
 

@@ -72,6 +72,9 @@ void check_grid_cap(const std::vector<Axis>& axes, double max_points, const std:
 
 /// Validates every point of a grid; throws UsageError naming the first invalid one.
 void validate_all(const std::vector<Params>& points, Space space = Space::TwoD);
+/// The same, and in 2D that each point's funnel takes the options' releases (disk releases in a
+/// mirror-symmetric funnel only); a UsageError naming the first failure.
+void validate_all(const std::vector<Params>& points, Space space, const EnsembleOptions& options);
 
 /// Parses a sample count (>= 1); throws UsageError.
 std::int64_t to_samples(const std::string& text);

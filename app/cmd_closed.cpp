@@ -48,6 +48,7 @@ struct ClosedCommand {
                        "': funnel closed needs a closed funnel (the two walls' lower ends at one point)");
     }
     const EnsembleOptions ensemble = to_ensemble_options(ens);
+    validate_all({params}, Space::TwoD, ensemble);
     ClosedOptions opt;
     opt.max_time = params.t_max;
     opt.max_collisions = params.max_collisions;

@@ -50,6 +50,7 @@ struct EnsembleCommand {
       throw UsageError("invalid --per-sample with --wear-bins and --format csv: the CSV holds either the samples or "
                        "the wear table; use --format json for both");
     }
+    validate_all({params}, sp, options);
     check_writable(out, {{"geometry", model.geometry}});
     ProgressBar bar("ensemble");
     const EnsembleResult r = std::move(distributed_sweep({params}, options, [&bar](std::int64_t done, std::int64_t total) {

@@ -233,7 +233,7 @@ struct SweepCommand {
     };
     check_size(axes, options);
     const std::vector<Params> points = expand_grid(base_params(merged), axes);
-    validate_all(points, sp);
+    validate_all(points, sp, options);
     const OutputTarget target = resolve_output(out, sizeof(".partial") - 1);
     const std::vector<InputFile> inputs{{"config", config}, {"geometry", model.geometry}};
     check_not_input(out, target, inputs);

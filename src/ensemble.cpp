@@ -67,6 +67,13 @@ std::optional<ParamError> validate(const EnsembleOptions& o) {
   return std::nullopt;
 }
 
+std::optional<ParamError> validate(const Params& params, const EnsembleOptions& options) {
+  if (options.dist != ReleaseDist::Disk || params.plain_v() || make_funnel(params).symmetric) return std::nullopt;
+  return ParamError{"release-dist", "disk",
+                    "line, uniform or gaussian in a funnel that is not mirror symmetric (disk releases are the "
+                    "cone's, at x0 = r > 0 only: they would never release over its left half)"};
+}
+
 namespace {
 
 // Streams of the counter-based generator: one per random quantity of a sample.

@@ -140,6 +140,9 @@ bool set_by_geometry(std::string_view name) {
 
 double reported_value(const ParameterInfo& info, const Params& p) {
   if (p.profile && unused_with_geometry(info.name, *p.profile)) return std::numeric_limits<double>::quiet_NaN();
+  if (info.name == "theta" && !Params::is_unset(p.theta_left) && !Params::is_unset(p.theta_right)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   return info.get(p);
 }
 

@@ -311,6 +311,51 @@ TEST_F(Cli, TheVsAnglesAndGapAreRefusedWithAGeometryFile) {
   EXPECT_EQ(run("trajectory --release 0.3 --e 0.9 --radius 0.02" + geometry).code, 0);
 }
 
+TEST_F(Cli, ThetaIsRefusedWithBothWallsAnglesAndReportedAsNone) {
+  // With both --theta-left and --theta-right, --theta changed nothing, yet a sweep over it wrote
+  // equal rows labelled 40 and 50.
+  for (const std::string& command : {"ensemble --samples 20 --theta 40 --theta-left 30 --theta-right 35 --out " + path("e.json"),
+                                     "sweep --samples 20 --theta 40,50 --theta-left 30 --theta-right 35 --out " + path("s.csv"),
+                                     "closed --samples 20 --theta 40 --theta-left 30 --theta-right 35 --out " + path("c.json")}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("valid range is not with both theta-left and theta-right"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(file_count(), 0u);
+  // Without it the output shows no theta (null, an empty field), not the default 60.
+  const json j = parse(run("ensemble --samples 20 --theta-left 30 --theta-right 35"));
+  EXPECT_TRUE(j["params"]["theta"].is_null());
+  EXPECT_EQ(j["params"]["theta_left"].get<double>(), 30.0);
+  const Result csv = run("sweep --samples 20 --theta-left 30,40 --theta-right 35 --out -");
+  ASSERT_EQ(csv.code, 0) << csv.output;
+  EXPECT_NE(csv.output.find("\n,0.99,1,0,"), std::string::npos) << csv.output;
+  EXPECT_EQ(csv.output.find("\n60,"), std::string::npos) << csv.output;
+  // One wall's angle still leaves theta the other's.
+  EXPECT_EQ(parse(run("ensemble --samples 20 --theta 40 --theta-right 35"))["params"]["theta"].get<double>(), 40.0);
+}
+
+TEST_F(Cli, DiskReleasesAreRefusedInAFunnelThatIsNotMirrorSymmetric) {
+  // x0 = r > 0 only: in an asymmetric funnel the left half was never released from, and the
+  // mirror funnel gave another mean duration (21.3 against 15.9).
+  write("lopsided.toml", "[left]\nvertices = [[-1, 1], [-0.1, 0]]\n[right]\nvertices = [[1, 1], [0.5, 0.6], [0.1, 0]]\n");
+  for (const std::string& command :
+       {"ensemble --samples 20 --release-dist disk --theta-left 30 --theta-right 70 --out " + path("e.json"),
+        "ensemble --samples 20 --release-dist disk --geometry " + path("lopsided.toml") + " --out " + path("e.json"),
+        "sweep --samples 20 --release-dist disk --theta 40 --theta-right 40,50 --out " + path("s.csv"),
+        "closed --samples 20 --release-dist disk --theta-right 50 --out " + path("c.json")}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("invalid release-dist = disk: valid range is line, uniform or gaussian in a funnel that is "
+                            "not mirror symmetric"),
+              std::string::npos)
+        << r.output;
+  }
+  EXPECT_EQ(file_count(), 1u);  // the geometry file only
+  // A symmetric funnel, given either way, takes them.
+  EXPECT_EQ(run("ensemble --samples 20 --release-dist disk --theta-left 40 --theta-right 40").code, 0);
+  EXPECT_EQ(run("ensemble --samples 20 --release-dist disk --spout-length 0.2").code, 0);
+}
+
 TEST_F(Cli, AMaterialParameterThatEveryWallSetsIsRefusedWithItsFile) {
   // Both walls set their own mu: --mu would change nothing, and a sweep over it labelled equal
   // rows as different. One wall's own e leaves --e the other wall's, which goes with the file.

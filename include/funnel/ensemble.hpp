@@ -53,6 +53,12 @@ struct EnsembleOptions {
 /// invalid one, if any, as a ParamError naming the option.
 std::optional<ParamError> validate(const EnsembleOptions& options);
 
+/// Checks that the funnel of `params` takes the options' releases: `disk` releases are the
+/// cone's (docs/model.md §8), x0 = r > 0 only, which stand for the whole funnel only in a
+/// mirror-symmetric one (in an asymmetric V or profile they would never release over its left
+/// half). The 2D runs' check; the 3D funnel is a cone by construction.
+std::optional<ParamError> validate(const Params& params, const EnsembleOptions& options);
+
 /// Release position x0/L of sample k, in (-1, 1) (random distributions keyed by (seed, k)).
 double sample_fraction(const EnsembleOptions& options, std::int64_t k);
 

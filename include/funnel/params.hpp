@@ -125,6 +125,12 @@ struct ParamError {
 /// The range text of a V parameter given with a geometry file, which defines the walls instead.
 inline constexpr std::string_view not_with_geometry = "not with a geometry file (the file defines the walls)";
 
+/// The range text of theta given with both theta-left and theta-right, which set the walls'
+/// angles instead: theta would be recorded in the output (a sweep over it would label equal rows
+/// apart) as if it had been used.
+inline constexpr std::string_view not_with_both_sides =
+    "not with both theta-left and theta-right (they set the two walls' angles: theta would change nothing)";
+
 /// True for the parameters of the V that a geometry file replaces (theta, gap, theta-left,
 /// theta-right, spout-length; command-line or output name): giving one with a file is bad input.
 bool set_by_geometry(std::string_view name);
@@ -137,8 +143,9 @@ bool set_by_geometry(std::string_view name);
 std::optional<std::string> unused_with_geometry(std::string_view name, const ProfileSpec& profile);
 
 /// A parameter's value as the outputs report it: NaN (JSON null, an empty CSV field, Python None
-/// or NaN) for one that the funnel of a geometry file leaves unused (unused_with_geometry), so
-/// that no output shows the default V's theta for a funnel that has none; else info.get(p).
+/// or NaN) for one that the funnel of a geometry file leaves unused (unused_with_geometry), and
+/// for theta when theta-left and theta-right are both set, so that no output shows a theta the
+/// funnel does not have; else info.get(p).
 double reported_value(const ParameterInfo& info, const Params& p);
 
 /// Checks every field (NaN and infinities included); the first invalid one, if any.

@@ -143,6 +143,11 @@ std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry
 Params make_params(const std::map<std::string, double>& model, const py::object& geometry = py::none()) {
   Params p = funnel::default_params();
   p.profile = profile_of(geometry);
+  if (const auto theta = model.find("theta");
+      theta != model.end() && model.contains("theta_left") && model.contains("theta_right")) {
+    throw py::value_error(
+        funnel::ParamError{"theta", funnel::format_number(theta->second), std::string(funnel::not_with_both_sides)}.message());
+  }
   for (const auto& [key, value] : model) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
     if (info == nullptr || !info->option) throw py::type_error("unknown model parameter '" + key + "'");
@@ -345,6 +350,7 @@ py::dict ensemble(const std::map<std::string, double>& model, std::int64_t sampl
   funnel::EnsembleOptions options =
       ensemble_options(samples, dist, threads, seed, release, release_sd, velocity_sd, wear_bins);
   options.keep_samples = per_sample;
+  if (const auto err = funnel::validate(params, options)) throw py::value_error(err->message());
   funnel::EnsembleResult r;
   run_interruptible(options, progress, [&](const funnel::Progress& report) {
     r = funnel::run_ensemble(params, options, report);
@@ -397,6 +403,21 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
                double velocity_sd, const py::object& progress, const py::object& geometry) {
   const Params base = make_params({}, geometry);
   std::vector<funnel::Axis> axes;
+  const auto given = [&](const char* key) {
+    for (const auto& [k, values] : axes_in) {
+      if (k == key) return !values.empty();
+    }
+    return false;
+  };
+  if (given("theta") && given("theta_left") && given("theta_right")) {
+    for (const auto& [key, values] : axes_in) {
+      if (key == "theta") {
+        throw py::value_error(funnel::ParamError{"theta", funnel::format_number(values.front()),
+                                                 std::string(funnel::not_with_both_sides)}
+                                  .message());
+      }
+    }
+  }
   for (const auto& [key, values] : axes_in) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
     if (base.profile && info != nullptr && !values.empty()) {
@@ -428,6 +449,9 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
     if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
   }
   funnel::EnsembleOptions options = ensemble_options(samples, dist, threads, seed, release, release_sd, velocity_sd, 0);
+  for (const Params& p : points) {
+    if (const auto err = funnel::validate(p, options)) throw py::value_error(err->message());
+  }
   std::vector<funnel::EnsembleResult> results;
   run_interruptible(options, progress, [&](const funnel::Progress& report) {
     results = funnel::run_sweep(points, options, report);
@@ -601,6 +625,7 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   params.t_max = max_time;
   params.max_collisions = max_coll;
   if (const auto err = funnel::validate(params)) throw py::value_error(err->message());  // e.g. max_time = inf
+  if (const auto err = funnel::validate(params, ensemble)) throw py::value_error(err->message());
   funnel::ClosedOptions opt;
   opt.max_time = max_time;
   opt.max_collisions = max_coll;

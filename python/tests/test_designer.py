@@ -98,6 +98,23 @@ def test_a_seed_where_nothing_is_random_is_refused_as_on_the_command_line():
     assert funnel.ensemble(samples=20, velocity_sd=0.01, seed=5)["seed"] == 5
 
 
+def test_theta_with_both_walls_angles_and_disk_releases_in_an_asymmetric_funnel_are_refused():
+    both = r"^invalid theta = 40: valid range is not with both theta-left and theta-right"
+    with pytest.raises(ValueError, match=both):
+        funnel.ensemble(samples=20, theta=40, theta_left=30, theta_right=35)
+    with pytest.raises(ValueError, match=both):
+        funnel.sweep(samples=20, theta=[40, 50], theta_left=30, theta_right=35)
+    assert funnel.ensemble(samples=20, theta_left=30, theta_right=35)["params"]["theta"] is None
+    assert np.isnan(funnel.sweep(samples=20, theta_left=[30, 40], theta_right=35)["theta"]).all()
+    disk = r"^invalid release-dist = disk: valid range is line, uniform or gaussian in a funnel that is not mirror symmetric"
+    for run in (lambda: funnel.ensemble(samples=20, release_dist="disk", theta_right=50),
+                lambda: funnel.sweep(samples=20, release_dist="disk", theta_left=[40, 50]),
+                lambda: funnel.closed(samples=20, release_dist="disk", theta_right=50)):
+        with pytest.raises(ValueError, match=disk):
+            run()
+    assert funnel.ensemble(samples=20, release_dist="disk", theta_left=50, theta_right=50)["samples"] == 20
+
+
 def test_progress_reports_every_work_unit():
     seen = []
     funnel.ensemble(samples=400, progress=lambda done, total: seen.append((done, total)))
