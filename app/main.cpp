@@ -2,10 +2,12 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <string_view>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -29,12 +31,25 @@ void warn_unknown_simd_path() {
             << "); using " << funnel::simd_path() << "\n";
 }
 
+/// An argument as a POSIX shell reads it back: as is when it holds only characters the shell
+/// takes literally, else in single quotes (a ' inside as '\''). The provenance's command and the
+/// printed --resume command are then runnable as written (an --out "a b.csv" was not).
+std::string shell_word(std::string_view arg) {
+  const bool plain = !arg.empty() && std::all_of(arg.begin(), arg.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::string_view("_@%+=:,./-").find(c) != std::string_view::npos;
+  });
+  if (plain) return std::string(arg);
+  std::string out = "'";
+  for (const char c : arg) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 /// Parses the command line and runs the subcommand; returns the exit code.
 int run_command_line(int argc, char** argv) {
   std::string command_line;
   for (int i = 0; i < argc; ++i) {
     if (i > 0) command_line += ' ';
-    command_line += argv[i];
+    command_line += shell_word(argv[i]);
   }
 
   CLI::App app{"funnel: exact event-driven simulation of a frictional, inelastic sphere falling\n"

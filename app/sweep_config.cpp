@@ -52,6 +52,9 @@ std::string toml_value_text(const std::string& key, const toml::node& node, cons
 
 std::string canonical_key(std::string key) {
   std::replace(key.begin(), key.end(), '_', '-');
+  // The command line's other name of the spin about z (--release-spin-z): the nearest key was
+  // release-spin-x, the spin about another axis.
+  if (key == "release-spin-z") return "release-spin";
   return key;
 }
 

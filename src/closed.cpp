@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "funnel/engine.hpp"
@@ -61,10 +62,13 @@ ClosedSample classify(const Params& p, double fraction, const Trajectory& t, con
     s.state = FinalState::Rest;  // the collision points collapse onto the vertex, x = 0
   } else {
     s.state = t.stopped ? FinalState::Periodic : FinalState::Undecided;
-    s.x_last = watch.last().x;
-    s.y_last = watch.last().y;
-    s.x_prev = watch.prev().x;
-    s.y_prev = watch.prev().y;
+    // A collision that never happened has no position: NaN (null, an empty field), not the
+    // vertex's 0 (a cap of a few time units or collisions leaves one or none).
+    constexpr double none = std::numeric_limits<double>::quiet_NaN();
+    s.x_last = t.collisions >= 1 ? watch.last().x : none;
+    s.y_last = t.collisions >= 1 ? watch.last().y : none;
+    s.x_prev = t.collisions >= 2 ? watch.prev().x : none;
+    s.y_prev = t.collisions >= 2 ? watch.prev().y : none;
   }
   return s;
 }

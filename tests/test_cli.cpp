@@ -202,6 +202,14 @@ TEST_F(Cli, ClosedReportsThePeriodicFraction) {
   EXPECT_NE(json.find("\"x_last_over_L\""), std::string::npos);
   expect_rejected(run("closed --gap 0.04 --out " + path("x.json")), "gap", "0.04");
   expect_rejected(run("closed --t-max 0 --out " + path("x.json")), "t-max", "0");
+  // A collision that never happened has no position: an empty field, not the vertex's 0.
+  const Result one = run("closed --theta 50 --samples 2 --max-collisions 1 --format csv");
+  ASSERT_EQ(one.code, 0) << one.output;
+  EXPECT_NE(one.output.find("\n-0.5,undecided,-0.5"), std::string::npos) << one.output;
+  EXPECT_NE(one.output.find(",,0.49222138086569"), std::string::npos) << one.output;
+  EXPECT_NE(one.output.find(",,1,0.99219"), std::string::npos) << one.output;
+  const Result none = run("closed --theta 50 --samples 2 --t-max 0.01 --format csv");
+  EXPECT_NE(none.output.find("\n-0.5,undecided,,,,,0,0.01\n"), std::string::npos) << none.output;
 }
 
 TEST_F(Cli, PaperRunsTheFrictionlessCurveOnceForEveryBeta0) {

@@ -289,6 +289,12 @@ TEST_F(Cli, ASweepConfigSetsTheThreeDimensionalParameters) {
   const Result bad = run("sweep --space 3d --config " + path("bad.toml") + " --out " + path("x.csv"));
   EXPECT_EQ(bad.code, 2) << bad.output;
   EXPECT_NE(bad.output.find("did you mean 'release-spin"), std::string::npos) << bad.output;
+  // The command line's other name of the spin about z is its name in a config too (it was
+  // refused, suggesting release-spin-x: the spin about another axis).
+  write("z.toml", "samples = 8\ntheta = 50\nrelease-spin-z = 2\n");
+  ASSERT_EQ(run("sweep --space 3d --config " + path("z.toml") + " --out " + path("z.csv")).code, 0);
+  ASSERT_EQ(run("sweep --space 3d --theta 50 --release-spin 2 --samples 8 --out " + path("w.csv")).code, 0);
+  EXPECT_EQ(read("z.csv"), read("w.csv"));
 }
 
 TEST_F(Cli, TwoDimensionalOutputsKeepTheirColumnsAndThreeDimensionalOnesAddTheirs) {

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <future>
@@ -387,6 +388,28 @@ TEST_F(Cli, PaperShowsProgressOfClosedFunnelRunsAndSummarisesEachStage) {
   ASSERT_EQ(bar.code, 0) << bar.output;
   EXPECT_NE(bar.output.find("funnel paper: fig12 [##############################] 100%"), std::string::npos)
       << bar.output;
+}
+
+}  // namespace
+
+namespace {
+
+using namespace funnel_test;
+
+TEST_F(Cli, TheRecordedCommandRunsAsWritten) {
+  // Arguments were joined with spaces: an --out "a b's.json" came back as two words, so the
+  // provenance's command (and the --resume command a sweep prints) failed when pasted.
+  ASSERT_EQ(run("ensemble --samples 10 --out \"" + path("a b's.json") + "\"").code, 0);
+  const std::string text = read("a b's.json");
+  const std::string quoted = "'" + path("a b") + "'\\\\''s.json'";  // as JSON writes the backslash
+  EXPECT_NE(text.find(quoted), std::string::npos) << text;
+  const std::size_t at = text.find("\"command\": \"") + 12;
+  std::string command = text.substr(at, text.find("\"\n", at) - at);
+  for (std::size_t i; (i = command.find("\\\\")) != std::string::npos;) command.erase(i, 1);
+  std::remove(path("a b's.json").c_str());
+  const Result again = run_binary(command, "");
+  ASSERT_EQ(again.code, 0) << command << "\n" << again.output;
+  EXPECT_NE(read("a b's.json").find("\"samples\": 10"), std::string::npos);
 }
 
 }  // namespace

@@ -33,8 +33,8 @@ struct ClosedOptions {
 struct ClosedSample {
   double fraction = 0.0;  ///< x0 / L
   FinalState state = FinalState::Undecided;
-  double x_last = 0.0;    ///< x of the last collision (0 at rest)
-  double x_prev = 0.0;    ///< x of the one before (0 at rest)
+  double x_last = 0.0;    ///< x of the last collision (0 at rest; NaN if there was none)
+  double x_prev = 0.0;    ///< x of the one before (0 at rest; NaN if there was none)
   double y_last = 0.0;    ///< heights of the same two collisions
   double y_prev = 0.0;
   std::int64_t collisions = 0;  ///< collisions simulated
