@@ -227,7 +227,7 @@ void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool
     app.add_option("--wear-bins", text.wear_bins,
                    "record where the walls wear in N equal bins along each wall (JSON key 'wear', per-sample "
                    "means; with csv the output is the wear table, one row per wall and bin, instead of the "
-                   "summary); integer 0 <= N <= 10^6 (default 0: none)")
+                   "summary); integer 0 <= N <= 10^4 (default 0: none)")
         ->type_name("N");
   }
   app.add_option("--threads", text.threads, "worker threads; integer 1 to 1024, or 0 = all cores (default 0)")
@@ -297,8 +297,8 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
                      ": valid range is an integer 0 <= seed < 2^64, with random releases or velocities only "
                      "(--release-dist uniform or gaussian, or --velocity-sd > 0; these releases draw no random number)");
   }
-  const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^6");
-  o.wear_bins = static_cast<int>(std::clamp<std::int64_t>(bins, -1, 1'000'001));
+  const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^4");
+  o.wear_bins = static_cast<int>(std::clamp<std::int64_t>(bins, -1, 10'001));
   if (const auto err = validate(o)) {
     ParamError e = *err;
     if (e.name == "wear-bins") e.value = text.wear_bins;

@@ -61,8 +61,10 @@ std::optional<ParamError> validate(const EnsembleOptions& o) {
   if (!(o.velocity_sd >= 0.0 && o.velocity_sd <= 1e3)) {
     return err("velocity-sd", o.velocity_sd, "0 <= velocity-sd <= 1000 (units of sqrt(gH))");
   }
-  if (!(o.wear_bins >= 0 && o.wear_bins <= 1'000'000)) {
-    return ParamError{"wear-bins", std::to_string(o.wear_bins), "an integer 0 <= wear-bins <= 10^6 (0 = no wear record)"};
+  // An ensemble holds a record per chunk (up to 256) until its point is complete, 48 bytes a bin:
+  // 10^6 bins took 12 GB; 10^4 bins (each 10^-4 of a wall, far below the ball's size) take 123 MB.
+  if (!(o.wear_bins >= 0 && o.wear_bins <= 10'000)) {
+    return ParamError{"wear-bins", std::to_string(o.wear_bins), "an integer 0 <= wear-bins <= 10^4 (0 = no wear record)"};
   }
   return std::nullopt;
 }
@@ -255,20 +257,25 @@ std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const
     if (wear != nullptr) stats.wear.merge(*wear);
     if (const std::int64_t partner = halved ? n - 1 - k : k; partner != k) {
       add(stats, mirrored(t));
-      if (wear != nullptr) stats.wear.merge(wear->mirrored());
+      if (wear != nullptr) stats.wear.merge(*wear, true);
     }
     if (options.keep_samples) stats.samples.push_back({sample_fraction(options, k), release, t});
   };
   const std::int64_t first_sample = chunk_range(halved, n, c0).first, last_sample = chunk_range(halved, n, c1 - 1).second;
 
   if (options.wear_bins > 0) {
-    // With a wear record: one trajectory at a time, each with its own record (no chain).
+    // With a wear record: one trajectory at a time, each with its own record (no chain), one
+    // record per point cleared between them (a fresh one, and its mirror image's copy, cost
+    // more than the trajectory at 10^4 bins).
+    std::vector<Wear> wears;
+    for (std::size_t m = 0; m < members; ++m) wears.push_back(Wear::make(*funnels[m], options.wear_bins));
     std::int64_t c = c0;
     for (std::int64_t k = first_sample; k < last_sample; ++k) {
       while (k >= chunk_range(halved, n, c).second) ++c;
       const State release = sample_release(first, g, options, k);
       for (std::size_t m = 0; m < members; ++m) {
-        Wear wear = Wear::make(*funnels[m], options.wear_bins);
+        Wear& wear = wears[m];
+        wear.clear();
         add_sample(m, c, k, release, simulate(*points[m], *funnels[m], release, nullptr, &wear), true, &wear);
       }
     }

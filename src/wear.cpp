@@ -112,15 +112,15 @@ void Wear::add_face_phase(Wall wall, const FacePhase& ph, double cos_theta, doub
   }
 }
 
-void Wear::merge(const Wear& o) {
+void Wear::merge(const Wear& o, bool mirror) {
   if (o.bins <= 0) return;
   if (bins <= 0) {
-    *this = o;
+    *this = mirror ? o.mirrored() : o;
     return;
   }
   for (int w = 0; w < 2; ++w) {
     WallWear& a = walls[w];
-    const WallWear& b = o.walls[w];
+    const WallWear& b = o.walls[mirror ? 1 - w : w];
     for (std::size_t k = 0; k < a.collisions.size(); ++k) {
       a.collisions[k] += b.collisions[k];
       a.normal_impulse[k] += b.normal_impulse[k];
@@ -129,6 +129,13 @@ void Wear::merge(const Wear& o) {
     a.edge_collisions += b.edge_collisions;
     a.edge_normal_impulse += b.edge_normal_impulse;
     a.edge_impulse += b.edge_impulse;
+  }
+}
+
+void Wear::clear() {
+  for (WallWear& a : walls) {
+    for (auto* v : {&a.collisions, &a.normal_impulse, &a.impulse}) std::fill(v->begin(), v->end(), 0.0);
+    a.edge_collisions = a.edge_normal_impulse = a.edge_impulse = 0.0;
   }
 }
 

@@ -138,6 +138,9 @@ TEST_F(Cli, ReleaseAndEnsembleOptionsAreValidated) {
   expect_rejected(run("sweep --theta 40,50 --seed 3 --out " + path("s.csv")), "seed = 3", "random releases");
   expect_rejected(run("ensemble --space 3d --seed 3" + out), "seed = 3", "--velocity-sd > 0");
   expect_rejected(run("ensemble --wear-bins 2000000" + out), "wear-bins", "2000000");
+  // An ensemble keeps a record per chunk: 10^6 bins took 12 GB; at most 10^4 (about 120 MB).
+  expect_rejected(run("ensemble --wear-bins 10001" + out), "wear-bins = 10001",
+                  "valid range is an integer 0 <= wear-bins <= 10^4");
   // A whole number beyond the int64 cap is out of range, not "not an integer"; the range says so.
   expect_rejected(run("trajectory --release 0 --max-collisions 9223372036854775807" + out), "max-collisions",
                   "'9223372036854775807': out of range; valid range is 1 <= max-collisions < 9e18 (an integer)");

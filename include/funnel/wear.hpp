@@ -45,8 +45,11 @@ struct Wear {
   /// the bins in proportion to the time spent in each (normal force cos(theta), friction force).
   void add_face_phase(Wall wall, const FacePhase& phase, double cos_theta, double offset);
 
-  /// Adds another record of the same binning.
-  void merge(const Wear& other);
+  /// Adds another record of the same binning; with `mirror`, that of its mirror image (left and
+  /// right swapped, as merge(other.mirrored()) without the copy).
+  void merge(const Wear& other, bool mirror = false);
+  /// Sets every entry to 0, keeping the binning (a record reused from trajectory to trajectory).
+  void clear();
   /// Multiplies every entry by `factor` (e.g. 1/N for per-sample means).
   void scale(double factor);
   /// The record of the mirror-image trajectory: left and right swapped.

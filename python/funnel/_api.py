@@ -142,7 +142,7 @@ def _model(function, model, space="2d"):
 _COUNT_RANGES = {
     "samples": (1, 10**9, "an integer 1 <= samples <= 10^9"),
     "threads": (0, 1024, "an integer 0 <= threads <= 1024 (0 = all cores)"),
-    "wear-bins": (0, 10**6, "an integer 0 <= wear-bins <= 10^6"),
+    "wear-bins": (0, 10**4, "an integer 0 <= wear-bins <= 10^4"),
     "max_bounces": (1, 20, "an integer 1 <= max_bounces <= 20"),
     "scan_points": (16, 10**6, "an integer 16 <= scan_points <= 10^6"),
     "max_coll": (1, 9 * 10**18 - 1, "an integer 1 <= max_coll < 9e18"),
@@ -186,10 +186,10 @@ def _seed(value, release_dist, velocity_sd):
 
 
 def _wear_bins(value):
-    """The wear bins, an integer 0 <= wear_bins <= 10^6."""
+    """The wear bins, an integer 0 <= wear_bins <= 10^4."""
     bins = _count("wear-bins", value)
-    if not 0 <= bins <= 10**6:
-        raise ValueError(f"invalid wear-bins = {bins}: valid range is an integer 0 <= wear-bins <= 10^6 "
+    if not 0 <= bins <= 10**4:
+        raise ValueError(f"invalid wear-bins = {bins}: valid range is an integer 0 <= wear-bins <= 10^4 "
                          "(0 = no wear record)")
     return bins
 
