@@ -335,12 +335,14 @@ std::vector<Orbit> find_orbits(const Params& params, const Options& options) {
   for (int j = end_levels; j >= 1; --j) grid.push_back(-1.0 + std::ldexp(0.5 / n, -j));
   for (int i = 0; i < n; ++i) grid.push_back(-1.0 + (i + 0.5) / n);
   for (int j = 1; j <= end_levels; ++j) grid.push_back(-std::ldexp(0.5 / n, -j));
-  std::vector<Probe> probes;
-  probes.reserve(grid.size());
-  for (const double f : grid) probes.push_back(search.at(f));
+  // Each interval's brackets need only its two ends' probes: two are kept, not the grid's (a
+  // probe holds its collisions' events, about 1 kB: 10^6 scan points held 1 GB per angle).
   std::vector<Bracket> brackets;
+  Probe previous = search.at(grid.front());
   for (std::size_t i = 0; i + 1 < grid.size(); ++i) {
-    search.brackets(grid[i], probes[i], grid[i + 1], probes[i + 1], 1, 0, brackets);
+    Probe next = search.at(grid[i + 1]);
+    search.brackets(grid[i], previous, grid[i + 1], next, 1, 0, brackets);
+    previous = std::move(next);
   }
   std::vector<Orbit> found;
   for (const Bracket& br : brackets) {
