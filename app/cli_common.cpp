@@ -198,6 +198,7 @@ int to_threads(const std::string& text) {
 }
 
 void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity, bool wear) {
+  text.velocity = velocity;
   app.add_option("--samples", text.samples, "release positions N; integer 1 <= N <= 10^9 (default 4000)")->type_name("N");
   app.add_option("--release-dist", text.release_dist,
                  "release distribution: line (2D funnel, x0 uniformly spaced, the paper's), disk (cone, "
@@ -293,9 +294,10 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
   }
   // Likewise a seed where nothing is drawn at random: two seeds would look like two samples.
   if (text.seed_given && !is_random(o)) {
-    throw UsageError("invalid seed = " + text.seed +
-                     ": valid range is an integer 0 <= seed < 2^64, with random releases or velocities only "
-                     "(--release-dist uniform or gaussian, or --velocity-sd > 0; these releases draw no random number)");
+    throw UsageError("invalid seed = " + text.seed + ": valid range is an integer 0 <= seed < 2^64, with random " +
+                     (text.velocity ? "releases or velocities only (--release-dist uniform or gaussian, or --velocity-sd > 0"
+                                    : "releases only (--release-dist uniform or gaussian") +
+                     "; these releases draw no random number)");
   }
   const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^4");
   o.wear_bins = static_cast<int>(std::clamp<std::int64_t>(bins, -1, 10'001));

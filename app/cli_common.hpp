@@ -98,6 +98,8 @@ struct EnsembleText {
   std::vector<std::string> gaussian_given;
   /// --seed given: refused where no random number is drawn.
   bool seed_given = false;
+  /// The command takes --velocity-sd (funnel closed does not): its refusal of --seed says so.
+  bool velocity = true;
 };
 /// Adds the ensemble options; with `velocity` also --velocity-sd, with `wear` --wear-bins.
 void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity = true, bool wear = true);

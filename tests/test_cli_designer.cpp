@@ -137,6 +137,8 @@ TEST_F(Cli, ReleaseAndEnsembleOptionsAreValidated) {
   expect_rejected(run("ensemble --seed 3" + out), "seed = 3", "with random releases or velocities only");
   expect_rejected(run("sweep --theta 40,50 --seed 3 --out " + path("s.csv")), "seed = 3", "random releases");
   expect_rejected(run("ensemble --space 3d --seed 3" + out), "seed = 3", "--velocity-sd > 0");
+  // funnel closed has no --velocity-sd: its refusal does not send the user to it.
+  expect_rejected(run("closed --seed 3" + out), "seed = 3", "with random releases only (--release-dist uniform or gaussian;");
   expect_rejected(run("ensemble --wear-bins 2000000" + out), "wear-bins", "2000000");
   // An ensemble keeps a record per chunk: 10^6 bins took 12 GB; at most 10^4 (about 120 MB).
   expect_rejected(run("ensemble --wear-bins 10001" + out), "wear-bins = 10001",

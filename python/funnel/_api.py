@@ -53,6 +53,12 @@ OBSERVABLES = tuple(o["name"] for o in OBSERVABLE_TABLE if o["summarized"]) or (
     "duration", "impulse", "normal_impulse", "energy_loss", "collisions", "edge_collisions", "edge_contacts",
     "contact_time", "exit_x", "exit_u", "exit_v", "exit_speed", "exit_angle", "exit_spin")
 
+#: Observables summarised by 3D ensembles and sweeps, in column order: those of
+#: :data:`OBSERVABLES_3D` but the counts that 2D summaries leave out too (face_collisions,
+#: contacts, which are collisions and edge_contacts' parts).
+OBSERVABLES_3D_SUMMARIZED = tuple(
+    o for o in OBSERVABLES_3D if o in OBSERVABLES or o not in {t["name"] for t in OBSERVABLE_TABLE})
+
 #: Statistics of each observable: mean, sample standard deviation, standard error, min, max.
 STATISTICS = ("mean", "std", "sem", "min", "max")
 
@@ -170,18 +176,21 @@ def _count(name, value):
     return n
 
 
-def _seed(value, release_dist, velocity_sd):
+def _seed(value, release_dist, velocity_sd=None):
     """The random seed, an integer 0 <= seed < 2^64 (None: 1). As on the command line, a seed
-    given where nothing is drawn at random is refused: two seeds would look like two samples."""
+    given where nothing is drawn at random is refused: two seeds would look like two samples.
+    velocity_sd None: the function has no random velocities (closed)."""
     if value is None:
         return 1
     seed = _count("seed", value)
     if not 0 <= seed < 2**64:
         raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64")
-    if release_dist not in ("uniform", "gaussian") and not (velocity_sd > 0 or math.isnan(velocity_sd)):
-        raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64, with random "
-                         "releases or velocities only (release_dist \"uniform\" or \"gaussian\", or "
-                         "velocity_sd > 0; these releases draw no random number)")
+    velocities = velocity_sd is not None
+    if release_dist not in ("uniform", "gaussian") and not (velocities and (velocity_sd > 0 or math.isnan(velocity_sd))):
+        which = ("releases or velocities only (release_dist \"uniform\" or \"gaussian\", or velocity_sd > 0"
+                 if velocities else "releases only (release_dist \"uniform\" or \"gaussian\"")
+        raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64, with random {which}; "
+                         "these releases draw no random number)")
     return seed
 
 
@@ -403,7 +412,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
     With ``space="3d"`` (the funnel revolved about its axis, see :func:`simulate`) the
     releases are "disk" (the default) or "line" at z = 0, ``velocity_sd`` adds random
     horizontal velocities (u, w), and the result holds the statistics of
-    :data:`OBSERVABLES_3D` (orbits included), ``periodic`` and ``stalled`` (the counts among the
+    :data:`OBSERVABLES_3D_SUMMARIZED` (orbits included), ``periodic`` and ``stalled`` (the counts among the
     trapped; stalled ones raise a :class:`StalledWarning`); uniform, gaussian and wear_bins are
     2D only.
 
@@ -521,7 +530,7 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=None, rele
 
     With ``space="3d"`` every point is a 3D ensemble as in :func:`ensemble` (release_dist
     "disk" by default); the columns are the 3D parameters and the statistics of
-    :data:`OBSERVABLES_3D`.
+    :data:`OBSERVABLES_3D_SUMMARIZED`.
 
     Each model keyword takes a number, a sequence or 1-D array of numbers, or a text
     "a,b,c" or "start:stop:step" (inclusive, as on the command line). The grid is the
@@ -729,7 +738,7 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
     result = _core().closed(_model("closed", model), _count("samples", samples), release_dist,
                             _count("threads", threads), _scalar(*caps["max_time"]),
                             _count(*caps["max_coll"]), _count("window", window),
-                            _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed, release_dist, 0.0),
+                            _scalar("slip_tol", slip_tol), _scalar("height_tol", height_tol), _seed(seed, release_dist),
                             _scalar("release", release), _scalar("release_sd", release_sd), _geometry(geometry))
     return result
 

@@ -81,9 +81,10 @@ def test_bad_options_raise_with_the_library_message():
 def test_a_seed_where_nothing_is_random_is_refused_as_on_the_command_line():
     # Python took seed=5 with line releases and ran seed 1's ensemble: two seeds, one sample.
     refusal = r"^invalid seed = 5: valid range is an integer 0 <= seed < 2\^64, with random releases or velocities only"
+    with pytest.raises(ValueError, match=r"^invalid seed = 5: .* with random releases only \(release_dist"):
+        funnel.closed(theta=50, samples=20, seed=5)  # closed() has no random velocities
     for run in (lambda: funnel.ensemble(samples=20, seed=5),
                 lambda: funnel.sweep(theta=[40, 50], samples=20, seed=5),
-                lambda: funnel.closed(theta=50, samples=20, seed=5),
                 lambda: funnel.ensemble(samples=20, seed=5, space="3d", t_max=20),
                 lambda: funnel.sweep(theta=50, samples=20, seed=5, space="3d", t_max=20)):
         with pytest.raises(ValueError, match=refusal):

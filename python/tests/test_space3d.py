@@ -155,3 +155,13 @@ def test_a_run_stopped_by_the_step_guard_is_stalled_and_warns():
     with pytest.raises(ValueError, match="max-ode-steps"):
         funnel.simulate(0.3, max_ode_steps=5000)  # 2D
     assert "max_ode_steps" in funnel.MODEL_PARAMETERS_3D_ONLY
+
+
+def test_the_summarised_3d_observables_are_the_ensembles_and_sweeps_statistics():
+    # OBSERVABLES_3D is a trajectory's: face_collisions and contacts are not summarised (as in 2D).
+    e = funnel.ensemble(samples=12, space="3d", t_max=20)
+    assert [o for o in funnel.OBSERVABLES_3D if o in e] == list(funnel.OBSERVABLES_3D_SUMMARIZED)
+    assert set(funnel.OBSERVABLES_3D) - set(funnel.OBSERVABLES_3D_SUMMARIZED) == {"face_collisions", "contacts"}
+    s = funnel.sweep(samples=12, space="3d", theta=50, t_max=20)
+    assert [o for o in funnel.OBSERVABLES_3D_SUMMARIZED if o + "_mean" in s] == list(funnel.OBSERVABLES_3D_SUMMARIZED)
+    assert set(funnel.OBSERVABLES) <= set(funnel.OBSERVABLES_3D_SUMMARIZED)
