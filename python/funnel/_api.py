@@ -634,8 +634,32 @@ def simd_paths():
 
 
 def default_params():
-    """The library's default parameters as a dict (the keys of a result's ``params``)."""
+    """The library's default parameters as a dict (the keys of a result's ``params``); as
+    keyword arguments: :func:`model_keywords`."""
     return _core().default_params()
+
+
+def model_keywords(params):
+    """The model keyword arguments that run a result's ``params`` again.
+
+    A record's ``params`` is every parameter as used; not all of it is keywords: p_c and
+    eps_rest are the library's fixed thresholds, a parameter without a value (None or NaN: the
+    V's under a geometry file, theta with both walls' angles) was not used, and theta_left and
+    theta_right equal to theta are the V's own angle. This keeps the rest, so that
+    ``funnel.ensemble(**funnel.model_keywords(r["params"]), samples=...)`` reruns ``r``'s funnel
+    and model (give ``geometry=``, ``space=`` and the ensemble's options again as well).
+
+    >>> r = funnel.ensemble(theta_right=50, samples=400)
+    >>> funnel.ensemble(**funnel.model_keywords(r["params"]), samples=400)["duration"] == r["duration"]
+    True
+    """
+    keys = set(MODEL_PARAMETERS) | set(MODEL_PARAMETERS_3D_ONLY)
+    out = {k: v for k, v in dict(params).items()
+           if k in keys and v is not None and not (isinstance(v, float) and math.isnan(v))}
+    for side in ("theta_left", "theta_right"):
+        if side in out and "theta" in out and out[side] == out["theta"]:
+            del out[side]
+    return out
 
 
 def valid_range(name):

@@ -215,3 +215,18 @@ def test_a_geometry_dict_takes_numpy_numbers():
     assert funnel.simulate(0.3, geometry=walls)["duration"] == funnel.simulate(0.3, geometry=plain)["duration"]
     with pytest.raises(ValueError, match="is not a number"):
         funnel.simulate(0.3, geometry={"left": {"vertices": [[-1, 1], [-0.1, True]]}, "mirror": True})
+
+
+def test_a_results_params_run_again_through_model_keywords():
+    # **r["params"] failed (p_c, eps_rest are no keywords; the walls' angles came with theta).
+    kw = funnel.model_keywords(funnel.default_params())
+    assert kw["theta"] == 60 and "p_c" not in kw and "theta_left" not in kw and "theta_right" not in kw
+    for model in ({"theta": 48, "mu": 0.3}, {"theta_right": 50}, {"theta_left": 30, "theta_right": 35},
+                  {"spout_length": 0.2, "e": 0.9}):
+        r = funnel.ensemble(samples=40, **model)
+        again = funnel.ensemble(samples=40, **funnel.model_keywords(r["params"]))
+        assert again["params"] == r["params"] and again["duration"] == r["duration"], model
+    r3 = funnel.simulate(0.3, space="3d", release_w=0.02, t_max=30)
+    again3 = funnel.simulate(0.3, space="3d", t_max=30, **{k: v for k, v in funnel.model_keywords(r3["params"]).items()
+                                                           if k != "t_max"})
+    assert again3["duration"] == r3["duration"] and again3["params"] == r3["params"]
