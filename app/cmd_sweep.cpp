@@ -395,7 +395,7 @@ struct SweepCommand {
   }
 
   /// A row of this sweep for the point whose columns begin with `prefix`: that prefix, then as
-  /// many fields as the header has columns left, each a number or empty (an undefined
+  /// many fields as the header has columns left, each a finite number or empty (an undefined
   /// statistic, e.g. the exit ones where nothing exited, is written as an empty field).
   static bool valid_row(const std::string& row, const std::string& prefix, const std::string& header) {
     if (row.empty() || row.back() != '\n' || row.compare(0, prefix.size(), prefix) != 0) return false;
@@ -409,7 +409,8 @@ struct SweepCommand {
       }
       double v = 0.0;
       const auto [ptr, ec] = std::from_chars(row.data() + pos, row.data() + end, v);
-      if (ec != std::errc() || ptr != row.data() + end) return false;
+      // The sweep writes an undefined value as an empty field, never nan or inf.
+      if (ec != std::errc() || ptr != row.data() + end || !std::isfinite(v)) return false;
       pos = end + 1;
     }
     return true;

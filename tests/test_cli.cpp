@@ -367,10 +367,11 @@ TEST_F(Cli, ResumeRecomputesPartialRowsThatAreNotTheGridsOwn) {
   partial += "1,0,0," + rows[1].substr(0, rows[1].rfind(',')) + ",oops\n";      // a word
   partial += "2,0,0," + rows[2].substr(0, rows[2].rfind(',')) + "\n";           // a column short
   partial += "3,0,0," + rows[3] + "\n";                                         // intact
+  partial += "4,0,0," + rows[4].substr(0, rows[4].rfind(',')) + ",nan\n";      // nan: the sweep writes none
   write("cut.csv.partial", partial);
   const Result r = run(grid + path("cut.csv") + " --resume");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("3 rows of"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("4 rows of"), std::string::npos) << r.output;
   EXPECT_EQ(read("cut.csv"), read("full.csv"));
   EXPECT_EQ(json::parse(read("cut.csv.json"))["resumed_points"], 1);
 }
