@@ -72,6 +72,13 @@ struct ClosedCommand {
       j["params"] = params_json(params);
       j["geometry"] = geometry_json(params);
       j["release_dist"] = to_string(ensemble.dist);
+      // What the random releases were drawn with, as Python's closed() records it ("release" is
+      // each release's column, so the gaussian's mean is release_mean).
+      if (is_random(ensemble)) j["seed"] = ensemble.seed;
+      if (ensemble.dist == ReleaseDist::Gaussian) {
+        j["release_mean"] = ensemble.release_mean;
+        j["release_sd"] = ensemble.release_sd;
+      }
       j["samples"] = ensemble.samples;
       j["options"] = {{"max_time", opt.max_time}, {"max_collisions", opt.max_collisions}, {"window", opt.window},
                       {"slip_tol", opt.slip_tol}, {"height_tol", opt.height_tol}};

@@ -640,6 +640,7 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   d["params"] = params_dict(params);
   d["geometry"] = geometry_record(params);
   put_releases(d, ensemble, "release_mean");  // "release" is the column of the releases
+  d["samples"] = ensemble.samples;
   d["options"] = py::dict(py::arg("max_time") = opt.max_time, py::arg("max_collisions") = opt.max_collisions,
                           py::arg("window") = opt.window, py::arg("slip_tol") = opt.slip_tol,
                           py::arg("height_tol") = opt.height_tol);

@@ -85,8 +85,10 @@ def test_closed_takes_the_releases_and_the_geometry_funnel_closed_takes(cli, tmp
         assert py["release"].tolist() == ref["per_sample"]["release"], dist
         assert py["state"] == ref["per_sample"]["state"], dist
         assert py["seed"] == extra["seed"] and py["release_dist"] == dist
+        # The same record on both sides (the CLI's lacked the seed, Python's the sample count).
+        assert ref["seed"] == py["seed"] and ref["samples"] == py["samples"] == 30
         if dist == "gaussian":  # its mean beside the column of the releases
-            assert py["release_mean"] == 0.2 and py["release_sd"] == 0.05
+            assert py["release_mean"] == ref["release_mean"] == 0.2 and py["release_sd"] == ref["release_sd"] == 0.05
     other = funnel.closed(theta=50, mu=0.1, samples=30, release_dist="uniform", seed=8)
     assert other["release"].tolist() != funnel.closed(theta=50, mu=0.1, samples=30, release_dist="uniform",
                                                       seed=7)["release"].tolist()
