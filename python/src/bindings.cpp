@@ -57,13 +57,19 @@ bool is_bool(const py::handle& h) {
   return py::isinstance<py::bool_>(h) || py::isinstance(h, numpy_bool);
 }
 
+/// "invalid geometry KEY = VALUE: valid range is RANGE", the value as Python shows it (cut to
+/// 60 characters), as every other error names the parameter, its value and the valid range.
+py::value_error geometry_error(const std::string& key, const py::handle& value, const std::string& range) {
+  std::string shown = py::str(py::repr(value));
+  if (shown.size() > 60) shown = shown.substr(0, 57) + "...";
+  return py::value_error("invalid geometry " + key + " = " + shown + ": valid range is " + range);
+}
+
 /// A number of a geometry dict; ValueError naming the key otherwise.
 double geometry_number(const py::handle& h, const std::string& key) {
   // Any real number: Python's, or numpy's scalars (np.float32(0.1), np.int64(1)), not a bool.
   static const py::handle numbers_real = py::object(py::module_::import("numbers").attr("Real")).release();
-  if (is_bool(h) || !py::isinstance(h, numbers_real)) {
-    throw py::value_error("invalid geometry: " + key + " is not a number");
-  }
+  if (is_bool(h) || !py::isinstance(h, numbers_real)) throw geometry_error(key, h, "a number");
   return py::float_(py::reinterpret_borrow<py::object>(h)).cast<double>();
 }
 
@@ -71,13 +77,13 @@ double geometry_number(const py::handle& h, const std::string& key) {
 std::vector<funnel::Vec2> geometry_vertices(const py::handle& h, const std::string& key) {
   std::vector<funnel::Vec2> out;
   if (!py::isinstance<py::sequence>(h) || py::isinstance<py::str>(h)) {
-    throw py::value_error("invalid geometry: " + key + " is not a list of [x, y] pairs");
+    throw geometry_error(key, h, "a list of [x, y] pairs of numbers");
   }
   std::size_t k = 0;
   for (const py::handle item : h) {
     const std::string at = key + "[" + std::to_string(k++) + "]";
-    if (!py::isinstance<py::sequence>(item) || py::len(item) != 2) {
-      throw py::value_error("invalid geometry: " + at + " is not a pair [x, y]");
+    if (!py::isinstance<py::sequence>(item) || py::isinstance<py::str>(item) || py::len(item) != 2) {
+      throw geometry_error(at, item, "a pair [x, y] of numbers");
     }
     const py::sequence pair = py::reinterpret_borrow<py::sequence>(item);
     out.push_back({geometry_number(pair[0], at), geometry_number(pair[1], at)});
@@ -95,13 +101,13 @@ std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry
   for (const auto& [k, v] : g) {
     const std::string key = py::str(k);
     if (key != "left" && key != "right" && key != "mirror" && key != "bottom" && key != "source") {
-      throw py::value_error("invalid geometry: unknown key '" + key + "' (left, right, mirror, bottom)");
+      throw py::value_error("invalid geometry: unknown key '" + key + "' (left, right, mirror, bottom, source)");
     }
   }
   auto side_of = [](const py::dict& g, const char* name) -> std::optional<funnel::WallSpec> {
     if (!g.contains(name)) return std::nullopt;
     const py::object o = g[name];
-    if (!py::isinstance<py::dict>(o)) throw py::value_error(std::string("invalid geometry: ") + name + " is not a dict");
+    if (!py::isinstance<py::dict>(o)) throw geometry_error(name, o, "a dict {\"vertices\": [[x, y], ...], and e, mu, beta0 if the wall has its own}");
     funnel::WallSpec s;
     for (const auto& [k, v] : o.cast<py::dict>()) {
       const std::string key = py::str(k);

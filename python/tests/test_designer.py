@@ -213,8 +213,16 @@ def test_a_geometry_dict_takes_numpy_numbers():
              "mirror": True}
     plain = {"left": {"vertices": [[-1, 1.0], [-0.1, 0.0]], "mu": float(np.float32(0.5))}, "mirror": True}
     assert funnel.simulate(0.3, geometry=walls)["duration"] == funnel.simulate(0.3, geometry=plain)["duration"]
-    with pytest.raises(ValueError, match="is not a number"):
+    with pytest.raises(ValueError, match=r"^invalid geometry left.vertices\[1\] = True: valid range is a number$"):
         funnel.simulate(0.3, geometry={"left": {"vertices": [[-1, 1], [-0.1, True]]}, "mirror": True})
+    # Each names the key, the value and what is valid (they named the key only).
+    for walls, message in (({"left": [[-1, 1], [-0.1, 0]], "mirror": True}, r"left = \[\[-1, 1\], \[-0.1, 0\]\]: valid range is a dict"),
+                           ({"left": {"vertices": "abc"}, "mirror": True}, r"left.vertices = 'abc': valid range is a list"),
+                           ({"left": {"vertices": [[-1, 1], "xy"]}, "mirror": True}, r"left.vertices\[1\] = 'xy': valid range is a pair"),
+                           ({"left": {"vertices": [[-1, 1], [-0.1, 0]]}, "mirror": True, "bottom": "low"},
+                            r"bottom = 'low': valid range is a number")):
+        with pytest.raises(ValueError, match="^invalid geometry " + message):
+            funnel.simulate(0.3, geometry=walls)
 
 
 def test_a_results_params_run_again_through_model_keywords():
