@@ -64,7 +64,8 @@ int index_of(Wall w) { return w == Wall::Left ? 0 : 1; }
 class Run {
  public:
   Run(const Params& params, const Funnel& f, const State& initial, EventSink* sink, Wear* wear)
-      : params_(params), f_(f), kappa_(params.inertia), radius_(params.radius), sink_(sink), wear_(wear),
+      : params_(params), f_(f), kappa_(params.inertia), radius_(params.radius), sink_(sink),
+        events_(sink != nullptr && sink->records() ? sink : nullptr), wear_(wear),
         state_(initial) {
     e0_ = energy(initial, kappa_, radius_);
     if (f_.closed) {
@@ -184,7 +185,7 @@ class Run {
         wear_->add_collision(part.wall, fc.surface_offset + along_face(fc, state_.r), c.j_n, j);
       }
     }
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event e = base_event(kind, part.wall);
       e.velocity_after = c.after.v;
       e.omega_after = c.after.omega;
@@ -193,7 +194,7 @@ class Run {
       e.j_n = c.j_n;
       e.j_t = c.j_t;
       e.energy_lost = c.energy_lost;
-      sink_->record(e);
+      events_->record(e);
     }
     state_ = c.after;
     return c;
@@ -318,13 +319,13 @@ class Run {
     out_.energy_loss_events += lost;
     const ContactResult res = slide_on_face(state_, fc, sd.ws, sd.material);
     if (res.slid) out_.slid = true;
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event e = base_event(EventKind::ContactStart, part.wall);
       e.velocity_before = entry.v;
       e.omega_before = entry.omega;
       e.regime = res.first_regime;
       e.energy_lost = lost;
-      sink_->record(e);
+      events_->record(e);
     }
     if (!(time_ + res.duration <= params_.t_max)) {
       // The cap falls inside the contact: stop there (observables up to its start).
@@ -351,7 +352,7 @@ class Run {
       state_.omega = 0.0;
     }
     out_.energy_loss_events += lost_end;
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event e = base_event(EventKind::ContactEnd, part.wall);
       e.position = arrived.r;
       e.velocity_before = arrived.v;
@@ -362,7 +363,7 @@ class Run {
       e.j_n = res.normal_impulse;
       e.j_t = res.tangential_impulse;
       e.energy_lost = lost_end;
-      sink_->record(e);
+      events_->record(e);
     }
     if (rest) end(Status::Rest, time_);
     return res.at_high_end;
@@ -385,13 +386,13 @@ class Run {
       res.end = mirror(res.end);
       res.tangential_impulse = -res.tangential_impulse;  // t = (n_y, -n_x) mirrors to -t
     }
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event e = base_event(EventKind::EdgeContactStart, part.wall);
       e.velocity_before = entry.v;
       e.omega_before = entry.omega;
       e.regime = res.first_regime;
       e.energy_lost = lost;
-      sink_->record(e);
+      events_->record(e);
     }
     if (time_ + res.duration > params_.t_max) {
       end(Status::Trapped, params_.t_max);
@@ -404,13 +405,13 @@ class Run {
     out_.energy_loss_events += res.energy_lost;
     if (wear_ != nullptr) wear_->add_edge(part.wall, res.normal_impulse, res.impulse, false);
     state_ = res.end;
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event e = base_event(EventKind::EdgeContactEnd, part.wall);
       e.regime = res.last_regime;
       e.j_n = res.normal_impulse;
       e.j_t = res.tangential_impulse;
       e.energy_lost = res.energy_lost;
-      sink_->record(e);
+      events_->record(e);
     }
     return res.exit;
   }
@@ -429,13 +430,14 @@ class Run {
   }
 
   void log_simple(EventKind kind, std::optional<Wall> wall) {
-    if (sink_ != nullptr) sink_->record(base_event(kind, wall));
+    if (events_ != nullptr) events_->record(base_event(kind, wall));
   }
 
   const Params& params_;
   const Funnel& f_;
   const double kappa_, radius_;
   EventSink* sink_;
+  EventSink* events_;  ///< sink_ if it records events (EventSink::records), else null
   Wear* wear_;
   State state_;
   double y_rest_ = 0.0;  // closed funnel: height of the bottom, where the particle rests

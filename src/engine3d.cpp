@@ -35,7 +35,7 @@ class Run3 {
   Run3(const Params& params, const Cone& cone, const State3& initial, EventSink3* sink,
        const std::atomic<bool>* cancel = nullptr)
       : params_(params), cone_(cone), g_(cone.g), mat_(material(params)), law_(collision_constants(mat_)),
-        sink_(sink), state_(initial) {
+        sink_(sink), events_(sink != nullptr && sink->records() ? sink : nullptr), state_(initial) {
     e0_ = energy(initial, mat_.kappa, mat_.radius);
     opt_.eps_rest = params.eps_rest;
     opt_.max_steps = params.max_ode_steps;
@@ -132,7 +132,7 @@ class Run3 {
     out_.impulse += std::sqrt(c.j_n * c.j_n + dot(c.j_t, c.j_t));
     out_.normal_impulse += c.j_n;
     out_.energy_loss_events += c.energy_lost;
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event3 e = base_event(kind);
       e.velocity_after = c.after.v;
       e.omega_after = c.after.omega;
@@ -142,7 +142,7 @@ class Run3 {
       e.j_n = c.j_n;
       e.j_t = c.j_t;
       e.energy_lost = c.energy_lost;
-      sink_->record(e);
+      events_->record(e);
     }
     state_ = c.after;
     return c;
@@ -309,13 +309,13 @@ class Run3 {
     const Contact3Result res =
         on_rim ? rim_contact(state_, cone_, mat_, opt_) : face_contact(state_, cone_, mat_, opt_);
     out_.ode_steps += res.steps;
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event3 e = base_event(on_rim ? EventKind::EdgeContactStart : EventKind::ContactStart);
       e.velocity_before = entry.v;
       e.omega_before = entry.omega;
       e.regime = res.first_regime;
       e.energy_lost = lost;
-      sink_->record(e);
+      events_->record(e);
     }
     if (res.closed_form && time_ + res.duration > params_.t_max) {
       end(Status::Trapped, params_.t_max);  // the cap falls inside the contact (as in 2D)
@@ -350,7 +350,7 @@ class Run3 {
       state_.omega = {};
     }
     out_.energy_loss_events += lost_end;
-    if (sink_ != nullptr) {
+    if (events_ != nullptr) {
       Event3 e = base_event(on_rim ? EventKind::EdgeContactEnd : EventKind::ContactEnd);
       e.position = arrived.r;
       e.velocity_before = arrived.v;
@@ -359,7 +359,7 @@ class Run3 {
       e.j_n = res.normal_impulse;
       e.contact_impulse = res.contact_impulse;
       e.energy_lost = lost_end;
-      sink_->record(e);
+      events_->record(e);
     }
     switch (res.how) {
       case Contact3End::Exit: exit_here(); break;
@@ -389,7 +389,7 @@ class Run3 {
   }
 
   void log(const Event3& e) {
-    if (sink_ != nullptr) sink_->record(e);
+    if (events_ != nullptr) events_->record(e);
   }
 
   const Params& params_;
@@ -398,6 +398,7 @@ class Run3 {
   const Material mat_;
   const CollisionConstants law_;
   EventSink3* sink_;
+  EventSink3* events_;  ///< sink_ if it records events (EventSink::records), else null
   State3 state_;
   FlightStart3 start_;
   int stalled_ = 0;  ///< events in a row without time advancing

@@ -52,6 +52,9 @@ class EventSink {
   virtual void record(const Event& event) = 0;
   /// Asked after every collision: true ends the run there (e.g. once an orbit is recognised).
   virtual bool finished() const { return false; }
+  /// False for a sink that only decides when the run ends (finished()): the engine then builds
+  /// and records no event for it.
+  virtual bool records() const { return true; }
 };
 
 /// An EventSink that keeps every event.

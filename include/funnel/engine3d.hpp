@@ -43,6 +43,9 @@ class EventSink3 {
   virtual void record(const Event3& event) = 0;
   /// Asked after every collision: true ends the run there.
   virtual bool finished() const { return false; }
+  /// False for a sink that only decides when the run ends (finished()): the engine then builds
+  /// and records no event for it.
+  virtual bool records() const { return true; }
 };
 
 /// An EventSink3 that keeps every event.

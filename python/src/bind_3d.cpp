@@ -143,10 +143,12 @@ py::dict simulate_3d(const std::map<std::string, double>& model, double release,
   const funnel::State3 s = funnel::release_state_3d(params, cone, release);
   funnel::EventLog3 log;
   funnel::Trajectory3 t;
+  funnel::py_convert::InterruptSink<funnel::EventSink3, funnel::Event3> sink(events ? &log : nullptr);
   {
     py::gil_scoped_release nogil;
-    t = funnel::simulate_3d(params, cone, s, events ? &log : nullptr);
+    t = funnel::simulate_3d(params, cone, s, &sink);
   }
+  sink.raise_if_interrupted();
   py::dict d;
   d["space"] = "3d";
   d["params"] = params_dict(params, funnel::Space::ThreeD);

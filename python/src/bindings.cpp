@@ -329,10 +329,12 @@ py::dict simulate(const std::map<std::string, double>& model, double release, bo
   funnel::EventLog log;
   funnel::Wear wear = funnel::Wear::make(g, wear_bins);
   funnel::Trajectory t;
+  funnel::py_convert::InterruptSink<funnel::EventSink, funnel::Event> sink(events ? &log : nullptr);
   {
     py::gil_scoped_release nogil;
-    t = funnel::simulate_release(params, g, release, events ? &log : nullptr, wear_bins > 0 ? &wear : nullptr);
+    t = funnel::simulate_release(params, g, release, &sink, wear_bins > 0 ? &wear : nullptr);
   }
+  sink.raise_if_interrupted();
   py::dict d;
   d["params"] = params_dict(params);
   d["geometry"] = geometry_record(params);

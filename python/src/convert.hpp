@@ -102,6 +102,37 @@ void run_reporting(const py::object& progress, std::atomic<bool>& cancel, Work w
   if (error) throw *error;
 }
 
+/// The sink of one trajectory run from Python without the GIL (simulate): it passes the events
+/// on to `log` (or drops them), and after every 256th collision takes the GIL to look for
+/// Ctrl-C, which ends the run there (finished()); raise_if_interrupted() then raises it. A
+/// trajectory of millions of collisions could not be interrupted. Sink is funnel::EventSink or
+/// funnel::EventSink3, Event its event.
+template <class Sink, class Event>
+class InterruptSink final : public Sink {
+ public:
+  explicit InterruptSink(Sink* log) : log_(log) {}
+  void record(const Event& e) override {
+    if (log_ != nullptr) log_->record(e);
+  }
+  bool records() const override { return log_ != nullptr; }
+  bool finished() const override {
+    if (error_) return true;
+    if ((++asked_ & 255) != 0) return false;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) error_.emplace();
+    return error_.has_value();
+  }
+  /// Call with the GIL held, once the run is over.
+  void raise_if_interrupted() {
+    if (error_) throw std::move(*error_);
+  }
+
+ private:
+  Sink* log_;
+  mutable std::uint64_t asked_ = 0;
+  mutable std::optional<py::error_already_set> error_;
+};
+
 /// Runs `work(report)` without the GIL, with `options.cancel` (EnsembleOptions or
 /// Ensemble3Options) watching for Ctrl-C: every finished work unit reports to `progress` (a
 /// Python callable (done, total), or None) and checks for Ctrl-C, which cancels the rest of the

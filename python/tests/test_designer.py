@@ -133,6 +133,26 @@ def test_ctrl_c_interrupts_a_long_ensemble():
     assert time.monotonic() - start < 30  # the whole run takes minutes
 
 
+@pytest.mark.parametrize("space", ["2d", "3d"])
+def test_ctrl_c_interrupts_one_endless_trajectory(space):
+    # An elastic frictionless ball bouncing for t_max = 1e9 (hundreds of millions of collisions):
+    # simulate() could not be interrupted at all.
+    import threading
+    timer = threading.Timer(0.3, signal.raise_signal, (signal.SIGINT,))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            funnel.simulate(0.3, space=space, theta=46, e=1, mu=0, t_max=1e9, max_collisions=8e18)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 30  # the whole run takes hours
+    # Without Ctrl-C the same call, shorter, is the same trajectory with and without its events.
+    quiet = funnel.simulate(0.3, space=space, theta=46, e=1, mu=0, t_max=2e3)
+    logged = funnel.simulate(0.3, space=space, theta=46, e=1, mu=0, t_max=2e3, events=True)
+    assert quiet["duration"] == logged["duration"] and quiet["collisions"] == logged["collisions"] > 1000
+
+
 def test_the_tables_describe_every_parameter_and_observable():
     keys = [p["key"] for p in funnel.PARAMETERS if p["option"]]
     assert list(keys) == list(funnel.MODEL_PARAMETERS)
