@@ -22,13 +22,12 @@ namespace {
 double parse_single(const std::string& name, const std::string& text) {
   const auto v = parse_number(text);
   if (!v) {
-    // A list or a range that funnel sweep would take: say where it goes, not only that it is no number.
+    // A list or a range (which funnel sweep takes for its grid): say so, not only that it is no number.
     std::string reason;
     const auto values = parse_values(text, reason);
-    const std::string what = values && values->size() > 1
-                                 ? "one value here (" + std::to_string(values->size()) +
-                                       " given: lists and ranges are funnel sweep's)"
-                                 : "not a finite number";
+    const std::string what = values && values->size() > 1 ? "a list or range of " + std::to_string(values->size()) +
+                                                                 " values, where one value is taken"
+                                                           : "not a finite number";
     throw UsageError("invalid " + name + " = '" + text + "': " + what + "; valid range is " +
                      std::string(valid_range(name)));
   }

@@ -103,10 +103,9 @@ struct ClosedCommand {
       text = j.dump(2) + "\n";
     } else {
       text = csv_line({"release", "state", "x_last_over_L", "x_prev_over_L", "y_last", "y_prev", "collisions", "time"});
-      const auto field = [](double x) { return std::isnan(x) ? std::string() : number(x); };  // none: empty
       for (const ClosedSample& s : r.samples) {
-        text += csv_line({number(s.fraction), std::string(to_string(s.state)), field(s.x_last / half_width),
-                          field(s.x_prev / half_width), field(s.y_last), field(s.y_prev),
+        text += csv_line({number(s.fraction), std::string(to_string(s.state)), csv_number(s.x_last / half_width),
+                          csv_number(s.x_prev / half_width), csv_number(s.y_last), csv_number(s.y_prev),
                           std::to_string(s.collisions), number(s.time)});
       }
     }

@@ -101,7 +101,7 @@ void add_trajectory_command(CLI::App& app, const std::string& command_line) {
   sub->add_flag("--events", cmd->events, "include the event log (JSON key 'events'; with csv, one row per event)");
   sub->add_option("--wear-bins", cmd->wear_bins,
                   "record where the walls wear in N equal bins of distance along each wall from its lower edge up to "
-                  "the release height (JSON key 'wear'; with csv, one row per wall and bin); integer 0 <= N <= 10^6 "
+                  "the release height (JSON key 'wear'; with csv, one row per wall and bin); integer 0 <= N <= 10^4 "
                   "(default 0: none)")
       ->type_name("N");
   add_output_options(*sub, cmd->format, cmd->out);

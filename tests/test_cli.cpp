@@ -460,7 +460,8 @@ TEST_F(Cli, PaperRefusesFigureDefinitionsOutOfRangeBeforeAnyWork) {
       {edited(fig12, "samples = 4000", "samples = -5"), "invalid samples = -5: valid range is an integer"},
       {edited(fig12, "kind = \"periodic_fraction\"", "kind = \"bogus\""), "invalid kind = 'bogus': valid kinds are"},
       {edited(fig12, "samples = 4000", "samples = 4000\nbogus_key = 3"), "unknown key 'bogus_key'"},
-      {fig12 + "\n[settings]\nbins = 0\n", "invalid settings.bins = 0: valid range is an integer 1 <= bins <= 10^6"},
+      {fig12 + "\n[settings]\nbins = 0\n", "invalid settings.bins = 0: valid range is an integer 1 <= bins <= 10^4"},
+      {fig12 + "\n[settings]\nbins = 1e5\n", "invalid settings.bins = 1e+05: valid range is an integer 1 <= bins <= 10^4"},
       {fig12 + "\n[settings]\ntheta = \"30:95:1\"\n", "invalid settings.theta = 90: valid range is 0 < theta < 90"},
       {fig12 + "\n[settings]\nscan_gap = 0.001\n", "settings.scan_gap: invalid gap = 0.001"},
       {fig12 + "\n[settings]\nturns = \"walls\"\n", "invalid turns = 'walls'"},
@@ -477,6 +478,23 @@ TEST_F(Cli, PaperRefusesFigureDefinitionsOutOfRangeBeforeAnyWork) {
     EXPECT_NE(r.output.find(cases[i].second), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("fig12.toml"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(path("out" + std::to_string(i)))) << cases[i].second;
+  }
+  // As on the command line: disk releases in an asymmetric V (they skip its left half), and theta
+  // with both walls' angles (equal rows labelled apart).
+  const std::string fig13 = read_source(FUNNEL_SOURCE_DIR "/paper/fig13.toml");
+  const std::vector<std::pair<std::string, std::string>> releases{
+      {edited(fig13, "[params]\n", "[params]\ntheta_right = 50\n"),
+       "invalid release-dist = disk: valid range is line, uniform or gaussian in a funnel that is not mirror symmetric"},
+      {edited(fig13, "[params]\n", "[params]\ntheta_right = 50\ntheta_left = 40\n"),
+       "invalid theta: valid range is not with both theta-left and theta-right"}};
+  for (std::size_t i = 0; i < releases.size(); ++i) {
+    const std::string dir = "rdefs" + std::to_string(i);
+    fs::create_directories(path(dir));
+    write(dir + "/fig13.toml", releases[i].first);
+    const Result r = run("paper --quick --no-plots --only fig13 --paper-dir " + path(dir) + " --out " + path(dir + "_out"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(releases[i].second), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path(dir + "_out")));
   }
   // A panel whose right wall follows theta by an offset leaves out the angles it tips past
   // vertical, as the sweep does: they are not refused (every definition is checked at its full

@@ -143,10 +143,10 @@ TEST_F(Cli, ReleaseAndEnsembleOptionsAreValidated) {
   // An ensemble keeps a record per chunk: 10^6 bins took 12 GB; at most 10^4 (about 120 MB).
   expect_rejected(run("ensemble --wear-bins 10001" + out), "wear-bins = 10001",
                   "valid range is an integer 0 <= wear-bins <= 10^4");
-  // A list or a range outside funnel sweep says where it goes ("not a finite number" before).
+  // A list or a range where one value is taken says so ("not a finite number" before).
   expect_rejected(run("ensemble --theta 40,50" + out), "theta = '40,50'",
-                  "one value here (2 given: lists and ranges are funnel sweep's); valid range is 0 < theta < 90");
-  expect_rejected(run("trajectory --release 0 --e 0.5:0.9:0.1" + out), "e = '0.5:0.9:0.1'", "(5 given");
+                  "a list or range of 2 values, where one value is taken; valid range is 0 < theta < 90");
+  expect_rejected(run("trajectory --release 0 --e 0.5:0.9:0.1" + out), "e = '0.5:0.9:0.1'", "range of 5 values");
   expect_rejected(run("trajectory --release 0 --e half" + out), "e = 'half'", "not a finite number; valid range");
   // A whole number beyond the int64 cap is out of range, not "not an integer"; the range says so.
   expect_rejected(run("trajectory --release 0 --max-collisions 9223372036854775807" + out), "max-collisions",

@@ -43,7 +43,7 @@ struct EnsembleOptions {
   double release_mean = 0.0;                ///< gaussian: mean of x0/L, -1 < mean < 1
   double release_sd = 0.1;                  ///< gaussian: standard deviation of x0/L, > 0
   double velocity_sd = 0.0;                 ///< standard deviation of each initial velocity component, sqrt(gH), >= 0
-  int wear_bins = 0;                        ///< bins per wall of the wear record (0: none), <= 10^6
+  int wear_bins = 0;                        ///< bins per wall of the wear record (0: none), <= 10^4
   /// When set and it becomes true, the work not yet started is skipped and the results are
   /// incomplete (e.g. Ctrl-C in Python); the caller checks it after the run.
   std::atomic<bool>* cancel = nullptr;

@@ -186,7 +186,8 @@ def _seed(value, release_dist, velocity_sd=None):
     if not 0 <= seed < 2**64:
         raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64")
     velocities = velocity_sd is not None
-    if release_dist not in ("uniform", "gaussian") and not (velocities and (velocity_sd > 0 or math.isnan(velocity_sd))):
+    # Only "line" and "disk" draw no random position (another name is refused as a distribution).
+    if release_dist in ("line", "disk") and not (velocities and (velocity_sd > 0 or math.isnan(velocity_sd))):
         which = ("releases or velocities only (release_dist \"uniform\" or \"gaussian\", or velocity_sd > 0"
                  if velocities else "releases only (release_dist \"uniform\" or \"gaussian\"")
         raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64, with random {which}; "
@@ -736,8 +737,9 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
         params (with the caps as t_max and max_collisions), geometry, release_dist (with seed for
         random releases, release_mean and release_sd for gaussian ones), options {max_time, max_collisions,
         window, slip_tol, height_tol}, periodic_fraction (float), state_counts {periodic, rest,
-        undecided}, and per release (n,): release (x0/L), state (str), x_last_over_L,
-        x_prev_over_L, y_last, y_prev, collisions (int64), time.
+        undecided}, samples, and per release (n,): release (x0/L), state (str), x_last_over_L,
+        x_prev_over_L, y_last, y_prev (the last two collisions' positions: 0 at rest, NaN for one
+        a cap left unmade), collisions (int64), time.
 
     Examples
     --------

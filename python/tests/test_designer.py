@@ -90,6 +90,8 @@ def test_a_seed_where_nothing_is_random_is_refused_as_on_the_command_line():
         with pytest.raises(ValueError, match=refusal):
             run()
     assert "seed" not in funnel.ensemble(samples=20)
+    with pytest.raises(ValueError, match=r"^invalid release_dist = 'Uniform'"):  # the distribution, not the seed
+        funnel.ensemble(samples=20, release_dist="Uniform", seed=3)
     # Where something is drawn, the seed keys it: None is seed 1.
     a = funnel.ensemble(samples=40, release_dist="uniform", per_sample=True)
     b = funnel.ensemble(samples=40, release_dist="uniform", seed=1, per_sample=True)

@@ -113,7 +113,7 @@ void validate_settings(const FigureSpec& fig) {
     } else if (key == "count" || key == "collisions") {
       check_setting(fig, key, node, true, [](double v) { return v >= 1.0 && v <= 1e6; }, "an integer 1 <= " + key + " <= 10^6");
     } else if (key == "bins") {
-      check_setting(fig, key, node, true, [](double v) { return v >= 1.0 && v <= 1e6; }, "an integer 1 <= bins <= 10^6");
+      check_setting(fig, key, node, true, [](double v) { return v >= 1.0 && v <= 1e4; }, "an integer 1 <= bins <= 10^4");
     } else if (key == "seed") {
       check_setting(fig, key, node, true, [](double v) { return v >= 0.0 && v < 9.0e15; }, "an integer 0 <= seed < 9e15");
     } else if (key == "velocity_sds") {
@@ -181,9 +181,27 @@ void validate_figure(const FigureSpec& fig) {
   for (const Axis& a : fig.grid) {
     if (a.values.empty()) fail(file, "[grid] " + a.name + " has no values");
   }
+  // The 2D figures' release distributions, for the check that the funnel takes them (disk
+  // releases in a mirror-symmetric funnel only), as the command line checks its own.
+  std::vector<EnsembleOptions> releases;
+  if (fig.kind != "cone_3d_sweep") {
+    for (const std::string& d : fig.dists) {
+      if (const auto dist = parse_release_dist(d)) {
+        EnsembleOptions o;
+        o.dist = *dist;
+        releases.push_back(o);
+      }
+    }
+  }
   for (const PanelSpec& panel : fig.panels) {
     const std::string where = fig.panels.size() > 1 ? " (panel '" + panel.id + "')" : "";
     Params base = panel_params(fig, panel);
+    // theta given with both walls' angles would change nothing (refused on the command line).
+    const auto given = [&](const std::string& name) {
+      return fig.params.contains(name) || panel.params.contains(name) ||
+             std::any_of(fig.grid.begin(), fig.grid.end(), [&](const Axis& a) { return a.name == name; });
+    };
+    const bool theta_given = given("theta") || !fig.thetas.empty();
     for (const Params& p : expand_grid(base, fig.grid)) {
       Params q = p;
       if (panel.theta_right_offset) {
@@ -193,6 +211,13 @@ void validate_figure(const FigureSpec& fig) {
         if (!(q.theta_right > 0.0 && q.theta_right < 90.0)) continue;
       }
       if (const auto err = validate(q)) fail(file, err->message() + where);
+      if (theta_given && !panel.theta_right_offset && !Params::is_unset(q.theta_left) &&
+          !Params::is_unset(q.theta_right)) {
+        fail(file, "invalid theta: valid range is " + std::string(not_with_both_sides) + where);
+      }
+      for (const EnsembleOptions& o : releases) {
+        if (const auto err = validate(q, o)) fail(file, err->message() + where);
+      }
       for (const double theta : fig.thetas) {
         Params t = q;
         t.theta = theta;

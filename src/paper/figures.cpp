@@ -278,7 +278,7 @@ FigureData closed_final(const FigureSpec& fig, int threads, const Progress& prog
     const std::string panel(1, static_cast<char>('a' + i));
     for (const ClosedSample& s : r.samples) {
       out.csv += csv_line({panel, number(p.mu), number(s.fraction), std::string(to_string(s.state)),
-                           number(s.x_last / half_width), number(s.x_prev / half_width)});
+                           csv_number(s.x_last / half_width), csv_number(s.x_prev / half_width)});
       if (s.state == FinalState::Periodic && std::fabs(s.x_last + s.x_prev) > 1e-4 * std::fabs(s.x_last)) ++asymmetric;
     }
     undecided += r.undecided;

@@ -18,6 +18,8 @@ std::string number(double x) {
   return std::string(buf, ptr);
 }
 
+std::string csv_number(double x) { return std::isnan(x) ? std::string() : number(x); }
+
 namespace {
 
 constexpr const char* summary_fields[] = {"mean", "std", "sem", "min", "max"};
@@ -30,9 +32,8 @@ nlohmann::ordered_json json_number(double x) {
 
 /// A CSV field: empty for NaN, an integer for counts, else the shortest round-trip text.
 std::string field(double x, bool count) {
-  if (std::isnan(x)) return "";
-  if (count) return std::to_string(static_cast<std::int64_t>(x));
-  return number(x);
+  if (count && !std::isnan(x)) return std::to_string(static_cast<std::int64_t>(x));
+  return csv_number(x);
 }
 
 nlohmann::ordered_json summary_json(const Summary& s) {

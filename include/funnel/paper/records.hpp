@@ -25,6 +25,8 @@ class InputError : public std::runtime_error {
 
 /// Shortest text that reads back as the same double (17 significant digits at most); 0, not -0.
 std::string number(double x);
+/// number(x), or an empty CSV field for NaN (a value that is not defined).
+std::string csv_number(double x);
 
 /// Every parameter of the space by its output key: {"theta": ..., "e": ..., ..., "eps_rest": ...}
 /// (3D: also release_w, release_spin_x, release_spin_y); null for one that a geometry file leaves
