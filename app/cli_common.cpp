@@ -175,7 +175,21 @@ void validate_all(const std::vector<Params>& points, Space space, const Ensemble
   validate_all(points, space);
   if (space == Space::ThreeD) return;  // the 3D funnel is a cone: disk releases are its own
   for (const Params& p : points) {
-    if (const auto err = validate(p, options)) throw UsageError(err->message());
+    const auto err = validate(p, options);
+    if (!err) continue;
+    // The refusal is the funnel's, not the option's: in a grid, say at which point (the
+    // parameters that vary over the grid).
+    std::string at;
+    for (const ParameterInfo& info : parameters(Space::TwoD)) {
+      const auto varies = [&](const Params& q) {
+        const double a = info.get(q), b = info.get(points.front());
+        return a != b && !(std::isnan(a) && std::isnan(b));
+      };
+      if (info.option && std::any_of(points.begin(), points.end(), varies)) {
+        at += (at.empty() ? "" : ", ") + std::string(info.name) + " = " + format_number(info.get(p));
+      }
+    }
+    throw UsageError(err->message() + (at.empty() ? "" : " (at the grid point " + at + ")"));
   }
 }
 

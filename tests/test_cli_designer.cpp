@@ -361,6 +361,10 @@ TEST_F(Cli, DiskReleasesAreRefusedInAFunnelThatIsNotMirrorSymmetric) {
         << r.output;
   }
   EXPECT_EQ(file_count(), 1u);  // the geometry file only
+  // In a grid where only some funnels are asymmetric, the refusal says at which point.
+  const Result part = run("sweep --samples 20 --release-dist disk --theta-right 60,65 --mu 0,1 --out " + path("s.csv"));
+  EXPECT_EQ(part.code, 2) << part.output;
+  EXPECT_NE(part.output.find("(at the grid point mu = 0, theta-right = 65)"), std::string::npos) << part.output;
   // A symmetric funnel, given either way, takes them.
   EXPECT_EQ(run("ensemble --samples 20 --release-dist disk --theta-left 40 --theta-right 40").code, 0);
   EXPECT_EQ(run("ensemble --samples 20 --release-dist disk --spout-length 0.2").code, 0);
