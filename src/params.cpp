@@ -370,7 +370,12 @@ std::optional<ParamError> validate(const Params& params, Space space) {
       const ParameterInfo* info = find_parameter(name);
       const double v = info->get(params);
       const double plain = std::string_view(name) == "spout-length" ? 0.0 : params.theta;
-      if (v != plain) return ParamError{name, format_number(v), std::string(name) + " = its 2D default in 3d (2D only)"};
+      if (v != plain) {
+        // The cone has one angle: a wall's own angle (or a spout) is a 2D shape.
+        const std::string same = std::string_view(name) == "spout-length" ? "0" : "theta (" + format_number(plain) + ")";
+        return ParamError{name, format_number(v),
+                          std::string(name) + " = " + same + " in 3d, the cone of theta and gap (a 2D shape only: --space 2d)"};
+      }
     }
     return std::nullopt;
   }

@@ -52,6 +52,11 @@ TEST_F(Cli, OptionsOfTheOtherSpaceAreRefusedNamingTheParameterValueAndRange) {
   EXPECT_NE(dist.output.find("disk"), std::string::npos) << dist.output;
   expect_rejected(run("trajectory --space 4d --release 0.3" + out), "space", "4d");
   expect_rejected(run("trajectory --space 3d --release 0.3 --release-w nan" + out), "release-w", "nan");
+  // The 2D shapes: the range says what the cone takes (it said "its 2D default").
+  expect_rejected(run("ensemble --space 3d --samples 8 --theta 50 --theta-left 40" + out), "theta-left = 40",
+                  "valid range is theta-left = theta (50) in 3d, the cone of theta and gap");
+  expect_rejected(run("sweep --space 3d --samples 8 --spout-length 0,0.2" + out), "spout-length = 0.2",
+                  "valid range is spout-length = 0 in 3d");
   EXPECT_EQ(file_count(), 0u);
 }
 
