@@ -585,11 +585,12 @@ std::int64_t from_lane(const Funnel& f, const batch::Lanes& l, int i, Run::Lane 
 
 /// simulate_many with or without watches (empty span: none).
 std::int64_t run_many(const Params& params, const Funnel& f, std::span<const State> initial, std::span<Trajectory> out,
-                      std::span<OrbitWatch> watches) {
+                      std::span<OrbitWatch> watches, const std::atomic<bool>* cancel = nullptr) {
   const int width = simd_lanes() <= 1 ? 1 : batch::width();
   auto watch_of = [&](std::size_t k) { return watches.empty() ? nullptr : &watches[k]; };
+  const auto cancelled = [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
   if (width <= 1 || !batchable(f) || initial.size() < 2) {
-    for (std::size_t k = 0; k < initial.size(); ++k) out[k] = simulate(params, f, initial[k], watch_of(k));
+    for (std::size_t k = 0; k < initial.size() && !cancelled(); ++k) out[k] = simulate(params, f, initial[k], watch_of(k));
     return 0;
   }
   std::int64_t in_lanes = 0;
@@ -620,6 +621,7 @@ std::int64_t run_many(const Params& params, const Funnel& f, std::span<const Sta
   for (int i = 0; i < batch::max_lanes; ++i) lanes.start[i] = batch::start_idle;
   for (int i = 0; i < width; ++i) fill(i);
   for (;;) {
+    if (cancelled()) return in_lanes;  // out is incomplete; the caller discards it
     std::uint32_t need = batch::face_steps(constants, lanes);
     if (need == 0) return in_lanes;  // every lane idle
     // The scalar engine takes each lane's uncommon event, then the lanes go on.
@@ -641,8 +643,8 @@ std::int64_t run_many(const Params& params, const Funnel& f, std::span<const Sta
 }  // namespace
 
 std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
-                           std::span<Trajectory> out) {
-  return run_many(params, f, initial, out, {});
+                           std::span<Trajectory> out, const std::atomic<bool>* cancel) {
+  return run_many(params, f, initial, out, {}, cancel);
 }
 
 std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,

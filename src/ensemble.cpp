@@ -219,6 +219,12 @@ std::pair<std::int64_t, std::int64_t> chunk_range(bool halved, std::int64_t n, s
 constexpr std::int64_t min_batch = 2048;
 constexpr std::int64_t tasks_per_thread = 8;
 
+/// True once the run is cancelled (Ctrl-C in Python): the work under way stops, its results
+/// incomplete, and is not recorded.
+bool cancelled(const EnsembleOptions& options) {
+  return options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed);
+}
+
 /// Releases run together at most: the memory of a task stays bounded whatever N.
 constexpr std::int64_t max_block = 4096;
 
@@ -272,6 +278,7 @@ std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const
     std::int64_t c = c0;
     for (std::int64_t k = first_sample; k < last_sample; ++k) {
       while (k >= chunk_range(halved, n, c).second) ++c;
+      if (cancelled(options)) return out;  // incomplete: the caller discards it
       const State release = sample_release(first, g, options, k);
       for (std::size_t m = 0; m < members; ++m) {
         Wear& wear = wears[m];
@@ -290,6 +297,7 @@ std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const
   thread_local std::vector<std::size_t> rerun;
   thread_local std::vector<char> computed;
   for (std::int64_t block_first = first_sample; block_first < last_sample; block_first += max_block) {
+    if (cancelled(options)) return out;  // incomplete: the caller discards it
     const std::int64_t block_last = std::min(last_sample, block_first + max_block);
     releases.clear();
     for (std::int64_t b = block_first; b < block_last; ++b) releases.push_back(sample_release(first, g, options, b));
@@ -297,7 +305,8 @@ std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const
       if (m == 0) {
         // The chain's first point runs every release.
         runs.resize(releases.size());
-        simulate_many(*points[m], *funnels[m], releases, runs);
+        simulate_many(*points[m], *funnels[m], releases, runs, options.cancel);
+        if (cancelled(options)) return out;
         computed.assign(releases.size(), 1);
       } else {
         // The next points run again only the releases whose trajectory slid.
@@ -310,7 +319,8 @@ std::vector<std::vector<ChunkStats>> compute_chain(std::span<const Params* const
           }
         }
         subset_runs.resize(subset.size());
-        simulate_many(*points[m], *funnels[m], subset, subset_runs);
+        simulate_many(*points[m], *funnels[m], subset, subset_runs, options.cancel);
+        if (cancelled(options)) return out;
         computed.assign(releases.size(), 0);
         for (std::size_t j = 0; j < rerun.size(); ++j) {
           runs[rerun[j]] = subset_runs[j];
@@ -507,7 +517,7 @@ std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const Ense
   const auto n = static_cast<std::int64_t>(groups.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t i = 0; i < n; ++i) {
-    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
+    if (cancelled(options)) continue;
     const Group& g = groups[static_cast<std::size_t>(i)];
     std::vector<const Params*> chain_points;
     std::vector<const Funnel*> chain_funnels;
@@ -517,6 +527,7 @@ std::vector<ChunkStats> run_chunks(const std::vector<Params>& points, const Ense
     }
     std::vector<std::vector<ChunkStats>> stats =
         compute_chain(chain_points, chain_funnels, options, mirror[g.members.front()] != 0, g.chunk, g.chunk + 1);
+    if (cancelled(options)) continue;  // stopped part way: not recorded
     for (std::size_t k = 0; k < g.members.size(); ++k) out[g.slots[k]] = std::move(stats[k][0]);
   }
   for (const auto& [again, first] : repeated) out[again] = out[first];
@@ -550,7 +561,7 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
 
 #pragma omp parallel for schedule(dynamic, 1) num_threads(resolve_threads(options.threads))
   for (std::int64_t task = 0; task < n_tasks; ++task) {
-    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) continue;
+    if (cancelled(options)) continue;
     const std::vector<std::size_t>& chain = chains[static_cast<std::size_t>(task / n_groups)];
     const std::int64_t c0 = (task % n_groups) * group;
     const std::int64_t c1 = std::min(n_chunks, c0 + group);
@@ -562,6 +573,7 @@ std::vector<EnsembleResult> run_sweep(const std::vector<Params>& points, const E
     }
     std::vector<std::vector<ChunkStats>> stats =
         compute_chain(chain_points, chain_funnels, options, mirror[chain.front()] != 0, c0, c1);
+    if (cancelled(options)) continue;  // stopped part way: not recorded
 #pragma omp critical(funnel_sweep)
     {
       for (std::size_t m = 0; m < chain.size(); ++m) {

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <atomic>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -107,9 +108,11 @@ Trajectory simulate(const Params& params, const Geometry& g, const State& initia
 /// they bounce between the walls' top faces above every edge, in a V (open or closed, with or
 /// without a spout) or a profile whose corners are all edges; those of any other funnel run one
 /// at a time. out.size() >= initial.size().
-/// Returns how many of the collisions were computed in SIMD lanes (0 on the scalar path).
+/// Returns how many of the collisions were computed in SIMD lanes (0 on the scalar path). Once
+/// `cancel` (if given) is true the runs stop where they are and `out` is incomplete (Ctrl-C in
+/// Python: the caller then discards it).
 std::int64_t simulate_many(const Params& params, const Funnel& f, std::span<const State> initial,
-                           std::span<Trajectory> out);
+                           std::span<Trajectory> out, const std::atomic<bool>* cancel = nullptr);
 
 /// The release state at X = fraction on the release line (fraction in (-1, 1)), with the
 /// parameters' release velocity and spin.
