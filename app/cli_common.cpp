@@ -281,7 +281,7 @@ std::int64_t option_integer(const char* name, const std::string& text, const cha
 
 }  // namespace
 
-EnsembleOptions to_ensemble_options(const EnsembleText& text) {
+EnsembleOptions to_ensemble_options(const EnsembleText& text, Space space) {
   EnsembleOptions o;
   o.samples = to_samples(text.samples);
   o.dist = to_release_dist(text.release_dist);
@@ -314,9 +314,10 @@ EnsembleOptions to_ensemble_options(const EnsembleText& text) {
   }
   // Likewise a seed where nothing is drawn at random: two seeds would look like two samples.
   if (text.seed_given && !is_random(o)) {
-    throw UsageError("invalid seed = " + text.seed + ": valid range is an integer 0 <= seed < 2^64, with random " +
-                     (text.velocity ? "releases or velocities only (--release-dist uniform or gaussian, or --velocity-sd > 0"
-                                    : "releases only (--release-dist uniform or gaussian") +
+    const std::string random = space == Space::ThreeD ? "velocities only (--velocity-sd > 0: in 3d the releases are line or disk"
+                               : text.velocity        ? "releases or velocities only (--release-dist uniform or gaussian, or --velocity-sd > 0"
+                                                      : "releases only (--release-dist uniform or gaussian";
+    throw UsageError("invalid seed = " + text.seed + ": valid range is an integer 0 <= seed < 2^64, with random " + random +
                      "; these releases draw no random number)");
   }
   const std::int64_t bins = option_integer("wear-bins", text.wear_bins, "an integer 0 <= wear-bins <= 10^4");

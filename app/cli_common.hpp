@@ -103,8 +103,9 @@ struct EnsembleText {
 };
 /// Adds the ensemble options; with `velocity` also --velocity-sd, with `wear` --wear-bins.
 void add_ensemble_options(CLI::App& app, EnsembleText& text, bool velocity = true, bool wear = true);
-/// The options, validated by the library; throws UsageError.
-EnsembleOptions to_ensemble_options(const EnsembleText& text);
+/// The options, validated by the library; throws UsageError. `space` words the refusal of a
+/// seed (in 3d only random velocities draw random numbers).
+EnsembleOptions to_ensemble_options(const EnsembleText& text, Space space = Space::TwoD);
 
 /// Adds --format (json or csv, default json) and --out (default '-': standard output).
 void add_output_options(CLI::App& app, std::string& format, std::string& out);

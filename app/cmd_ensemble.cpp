@@ -40,7 +40,7 @@ struct EnsembleCommand {
   void run() const {
     const Space sp = to_space(space);
     const Params params = to_params(model, sp);
-    EnsembleOptions options = to_ensemble_options(ens);
+    EnsembleOptions options = to_ensemble_options(ens, sp);
     options.keep_samples = per_sample;
     const Format fmt = to_format(format);
     if (sp == Space::ThreeD) {

@@ -221,7 +221,7 @@ struct SweepCommand {
     // into the output.
     const std::vector<Axis> axes =
         to_axes(merged, max_sweep_points, "even with --yes: every point's row, about 2 kB, is held in memory twice");
-    const EnsembleOptions options = to_ensemble_options(merged_ens);
+    const EnsembleOptions options = to_ensemble_options(merged_ens, sp);
     const Ensemble3Options options3 =
         sp == Space::ThreeD ? to_ensemble3_options(options, dist_given) : Ensemble3Options{};
     const ReleaseDist dist = sp == Space::ThreeD ? options3.dist : options.dist;

@@ -136,7 +136,8 @@ TEST_F(Cli, ReleaseAndEnsembleOptionsAreValidated) {
   // A seed where nothing is random would look like another sample: refused, in 2D and 3D.
   expect_rejected(run("ensemble --seed 3" + out), "seed = 3", "with random releases or velocities only");
   expect_rejected(run("sweep --theta 40,50 --seed 3 --out " + path("s.csv")), "seed = 3", "random releases");
-  expect_rejected(run("ensemble --space 3d --seed 3" + out), "seed = 3", "--velocity-sd > 0");
+  expect_rejected(run("ensemble --space 3d --seed 3" + out), "seed = 3",
+                  "with random velocities only (--velocity-sd > 0: in 3d the releases are line or disk;");
   // funnel closed has no --velocity-sd: its refusal does not send the user to it.
   expect_rejected(run("closed --seed 3" + out), "seed = 3", "with random releases only (--release-dist uniform or gaussian;");
   expect_rejected(run("ensemble --wear-bins 2000000" + out), "wear-bins", "2000000");

@@ -176,7 +176,7 @@ def _count(name, value):
     return n
 
 
-def _seed(value, release_dist, velocity_sd=None):
+def _seed(value, release_dist, velocity_sd=None, space="2d"):
     """The random seed, an integer 0 <= seed < 2^64 (None: 1). As on the command line, a seed
     given where nothing is drawn at random is refused: two seeds would look like two samples.
     velocity_sd None: the function has no random velocities (closed)."""
@@ -188,7 +188,8 @@ def _seed(value, release_dist, velocity_sd=None):
     velocities = velocity_sd is not None
     # Only "line" and "disk" draw no random position (another name is refused as a distribution).
     if release_dist in ("line", "disk") and not (velocities and (velocity_sd > 0 or math.isnan(velocity_sd))):
-        which = ("releases or velocities only (release_dist \"uniform\" or \"gaussian\", or velocity_sd > 0"
+        which = ("velocities only (velocity_sd > 0: in 3d the releases are line or disk" if space == "3d"
+                 else "releases or velocities only (release_dist \"uniform\" or \"gaussian\", or velocity_sd > 0"
                  if velocities else "releases only (release_dist \"uniform\" or \"gaussian\"")
         raise ValueError(f"invalid seed = {seed}: valid range is an integer 0 <= seed < 2^64, with random {which}; "
                          "these releases draw no random number)")
@@ -480,7 +481,7 @@ def ensemble(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, per_sample=F
         velocity_sd = _scalar("velocity_sd", velocity_sd)
         result = core.ensemble_3d(_model("ensemble", model, "3d"), _count("samples", samples), release_dist,
                                   _count("threads", threads), _flag("per_sample", per_sample),
-                                  _seed(seed, release_dist, velocity_sd), velocity_sd,
+                                  _seed(seed, release_dist, velocity_sd, "3d"), velocity_sd,
                                   _progress_callback(progress, "ensemble"))
         if per_sample:
             _text_columns(result["per_sample"], ("status",))
@@ -564,7 +565,7 @@ def sweep(samples=DEFAULT_SAMPLES, release_dist=None, threads=0, seed=None, rele
         axes = [(name, _axis_values(name, model[name])) for name in MODEL_PARAMETERS + MODEL_PARAMETERS_3D_ONLY
                 if name in model]
         result = _text_columns(core.sweep_3d(axes, _count("samples", samples), release_dist,
-                                             _count("threads", threads), _seed(seed, release_dist, velocity_sd),
+                                             _count("threads", threads), _seed(seed, release_dist, velocity_sd, "3d"),
                                              velocity_sd, _progress_callback(progress, "sweep")), ("release_dist",))
         _warn_stalled(int(result["stalled"].sum()), int(result["samples"].sum()), "the column 'stalled'")
         _warn_sweep_capped(result)

@@ -83,13 +83,14 @@ def test_a_seed_where_nothing_is_random_is_refused_as_on_the_command_line():
     refusal = r"^invalid seed = 5: valid range is an integer 0 <= seed < 2\^64, with random releases or velocities only"
     with pytest.raises(ValueError, match=r"^invalid seed = 5: .* with random releases only \(release_dist"):
         funnel.closed(theta=50, samples=20, seed=5)  # closed() has no random velocities
-    for run in (lambda: funnel.ensemble(samples=20, seed=5),
-                lambda: funnel.sweep(theta=[40, 50], samples=20, seed=5),
-                lambda: funnel.ensemble(samples=20, seed=5, space="3d", t_max=20),
-                lambda: funnel.sweep(theta=50, samples=20, seed=5, space="3d", t_max=20)):
+    for run in (lambda: funnel.ensemble(samples=20, seed=5), lambda: funnel.sweep(theta=[40, 50], samples=20, seed=5)):
         with pytest.raises(ValueError, match=refusal):
             run()
     assert "seed" not in funnel.ensemble(samples=20)
+    for run in (lambda: funnel.ensemble(samples=20, seed=5, space="3d", t_max=20),
+                lambda: funnel.sweep(theta=50, samples=20, seed=5, space="3d", t_max=20)):
+        with pytest.raises(ValueError, match=r"with random velocities only \(velocity_sd > 0: in 3d the releases are line or disk"):
+            run()
     with pytest.raises(ValueError, match=r"^invalid release_dist = 'Uniform'"):  # the distribution, not the seed
         funnel.ensemble(samples=20, release_dist="Uniform", seed=3)
     # Where something is drawn, the seed keys it: None is seed 1.
