@@ -74,8 +74,17 @@ int run_command_line(int argc, char** argv) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
     // An unknown word gets its nearest valid one; other parse errors keep CLI11's message.
+    const std::string what = e.what();
+    const std::string repeated = ": At Most 1 required but received ";
     if (const auto why = funnel::cli::explain_unknown(app, argc, argv)) {
       std::cerr << "funnel: error: " << *why << "\n";
+    } else if (const auto at = what.find(repeated); at != std::string::npos && what.rfind("--", 0) == 0) {
+      // An option given twice: CLI11's words named neither the rule nor a way out.
+      const std::string option = what.substr(0, at);
+      std::cerr << "funnel: error: invalid " << option << ": given " << what.substr(at + repeated.size())
+                << " times; valid range is once (several values are a list in one option of funnel sweep, e.g. "
+                << option << " A,B)\n"
+                << funnel::cli::help_hint(app, argc, argv) << "\n";
     } else {
       std::cerr << "funnel: error: " << e.what() << "\n" << funnel::cli::help_hint(app, argc, argv) << "\n";
     }

@@ -237,6 +237,13 @@ TEST_F(Cli, MisspeltSubcommandsAndOptionsGetTheNearestNameAndTheirHelp) {
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("--release"), std::string::npos) << missing.output;
   EXPECT_NE(missing.output.find("Run 'funnel trajectory --help' for its options."), std::string::npos) << missing.output;
+  // An option given twice says the rule and the way out (it was CLI11's "At Most 1 required").
+  const Result twice = run("ensemble --theta 40 --theta 50 --out " + path("e.json"));
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_NE(twice.output.find("invalid --theta: given 2 times; valid range is once (several values are a list in one "
+                              "option of funnel sweep, e.g. --theta A,B)"),
+            std::string::npos)
+      << twice.output;
   EXPECT_EQ(file_count(), 0u);
 }
 
