@@ -67,8 +67,16 @@ def main(argv=None, prog="python -m funnel.plot bench"):
     if Path(args.out).suffix not in (".png", ".svg"):
         parser.error(f"invalid out = '{args.out}': valid values end in .png or .svg")
     try:
-        text = sys.stdin.read() if args.bench == "-" else Path(args.bench).read_text()
-        bench = json.loads(text)
+        try:
+            text = sys.stdin.read() if args.bench == "-" else Path(args.bench).read_text()
+        except OSError as error:
+            raise OSError(f"invalid bench = '{args.bench}': {error.strerror or error}; valid values are the JSON file "
+                          "of funnel bench --format json, or '-'") from None
+        try:
+            bench = json.loads(text)
+        except ValueError as error:
+            raise ValueError(f"invalid bench = '{args.bench}': not JSON ({error}); valid values are the JSON of "
+                             "funnel bench --format json") from None
         path = plot_bench(bench, args.out)
     except (OSError, ValueError, KeyError, TypeError, AttributeError) as error:
         # Not a bench JSON (a list, a null where a number belongs): one line, exit status 2.

@@ -79,3 +79,13 @@ def test_the_bench_picture_draws_a_bar_per_path_and_refuses_other_json(tmp_path)
     assert bad.returncode == 2
     assert "no 'reference_ensemble_by_path'" in bad.stderr
     assert not (tmp_path / "x.png").exists()
+    # A missing file or one that is not JSON is named with what is valid (the bare OSError or
+    # json's "Expecting value" before).
+    for path, said in ((tmp_path / "none.json", "No such file or directory"), (tmp_path / "words.json", "not JSON")):
+        if path.name == "words.json":
+            path.write_text("xx")
+        bad = subprocess.run([sys.executable, "-m", "funnel.plot", "bench", str(path), "--out", str(tmp_path / "y.png")],
+                             capture_output=True, text=True)
+        assert bad.returncode == 2
+        assert f"error: invalid bench = '{path}': {said}" in bad.stderr, bad.stderr
+        assert "valid values are the JSON" in bad.stderr
