@@ -190,6 +190,7 @@ def main(argv=None):
         from ._files import check_output
         check_output(args.out)  # before the simulation, not after it
         result, geometry = tr.simulate_for_plot(args.release, **tr.model_arguments(args))
+        tr.nothing_to_draw(result)
     except ValueError as error:
         parser.error(str(error))
     if args.t_start >= float(result["duration"]):

@@ -130,6 +130,11 @@ class Segments:
         check_events(events)
         time = _array(events, "time", 0)
         n = len(time)
+        if n == 0:
+            # A run that t_max ends in its first flight logs nothing: no motion to draw (the
+            # segments are built from the events, and broke on an empty log).
+            raise ValueError("invalid events: an empty log (the run ended before its first collision, e.g. a t_max "
+                             "shorter than its first flight); valid events hold at least one event: a longer t_max")
         x, y = _array(events, "x", n), _array(events, "y", n)
         kind = np.asarray(events["kind"], dtype=str) if n else np.zeros(0, dtype=str)
         # The first flight starts from the engine's own release state (point, velocity, spin),

@@ -218,8 +218,14 @@ def funnel_label(result, g):
     if source != "v":
         return Path(source).name.replace("$", r"\$")
     params = result.get("params") or {}
-    theta = float(params.get("theta", g["theta"]))
-    left, right = (float(params.get(key, theta)) for key in ("theta_left", "theta_right"))
+
+    def angle(key, default):  # None (or NaN): a parameter the run did not use
+        value = params.get(key)
+        return default if value is None or math.isnan(float(value)) else float(value)
+
+    # With both wall angles given, params' theta is None: the walls' own angles name the funnel.
+    theta = angle("theta", float(g["theta"]))
+    left, right = angle("theta_left", theta), angle("theta_right", theta)
     if left == right:
         return rf"$\theta$ = {left:g}°"
     return rf"$\theta_\mathrm{{left}}$ = {left:g}°, $\theta_\mathrm{{right}}$ = {right:g}°"
@@ -377,6 +383,15 @@ def save_figure(fig, out):
                     metadata={"Software": None} if out.suffix == ".png" else None)
 
 
+def nothing_to_draw(result):
+    """ValueError naming t_max when the run logged no event: t_max ended its first flight, and
+    the pictures are drawn from the event log (a traceback before)."""
+    if not len(result["events"]["time"]):
+        t_max = float(result["params"]["t_max"])
+        raise ValueError(f"invalid t-max = {t_max:g}: the run ends before its first collision, with nothing to draw; "
+                         "valid range is a t-max beyond the first flight")
+
+
 def main(argv=None, prog="python -m funnel.trajectory"):
     """Command line: simulate one trajectory and draw it into --out."""
     import argparse
@@ -397,6 +412,7 @@ def main(argv=None, prog="python -m funnel.trajectory"):
         parser.error(str(error))
     try:
         result, geometry = simulate_for_plot(args.release, **model_arguments(args))
+        nothing_to_draw(result)
     except ValueError as error:
         parser.error(str(error))
     with matplotlib.rc_context(STYLE):

@@ -212,9 +212,11 @@ def _release_dot(ax):
 
 @pytest.mark.parametrize("model,label", [
     ({"theta_left": 50.0}, r"$\theta_\mathrm{left}$ = 50°, $\theta_\mathrm{right}$ = 60°, $x_0/L$ = 0.3"),
+    # Both walls' angles: params' theta is None (a TypeError in the title before).
+    ({"theta_left": 50.0, "theta_right": 55.0}, r"$\theta_\mathrm{left}$ = 50°, $\theta_\mathrm{right}$ = 55°, $x_0/L$ = 0.3"),
     ({"geometry": LINED}, "lined.toml, $x_0/L$ = 0.3"),
     ({"theta": 45.0, "release_u": 0.5, "release_v": 0.3, "release_spin": 2.0}, r"$\theta$ = 45°, $x_0/L$ = 0.3"),
-], ids=["asymmetric", "geometry-file", "velocity"])
+], ids=["asymmetric", "both-walls", "geometry-file", "velocity"])
 def test_pictures_and_animations_start_at_the_release_and_name_the_funnel(model, label):
     # The release was drawn at release * half_width (off the release point of an asymmetric V
     # or a geometry file), the first flight as a fall from rest, and the title gave the V's
@@ -274,3 +276,19 @@ def test_help_gives_the_wall_angles_default_as_theta(main, capsys):
     text = " ".join(capsys.readouterr().out.split())
     for side in ("left", "right"):
         assert f"--theta-{side} THETA_{side.upper()} 0 < theta-{side} < 90 (degrees) (default: theta)" in text
+
+
+def test_a_run_with_no_event_is_refused_naming_t_max(tmp_path):
+    # t_max within the first flight: the log is empty, and the pictures broke on it (a traceback).
+    import subprocess
+    import sys
+    for module in (["funnel.plot", "trajectory"], ["funnel.animate"]):
+        out = tmp_path / ("a.png" if module[0] == "funnel.plot" else "a.gif")
+        run = subprocess.run([sys.executable, "-m", *module, "--release", "0.3", "--t-max", "0.5", "--out", str(out)],
+                             capture_output=True, text=True)
+        assert run.returncode == 2, run.stderr
+        assert "error: invalid t-max = 0.5: the run ends before its first collision" in run.stderr
+        assert "Traceback" not in run.stderr and not out.exists()
+    result, geometry = trajectory.simulate_for_plot(0.3, t_max=0.5)
+    with pytest.raises(ValueError, match="an empty log"):
+        trajectory.plot_trajectory(result, geometry)
