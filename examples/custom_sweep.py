@@ -4,8 +4,9 @@
 
 How does the jump of the mean duration at θ = 45° depend on friction? One ensemble of 400
 release positions per (θ, μ) on a grid around 45°, through funnel.sweep (the same numbers as
-`funnel sweep --theta 40:50:1 --mu 0.05,0.2,1 --samples 400 --out sweep.csv`). Writes
-OUTDIR/sweep.csv (the columns of `funnel sweep`) and OUTDIR/sweep.png.
+`funnel sweep --theta 40:50:1 --mu 0.05,0.2,1 --samples 400 --out sweep.csv`, though written as
+Python writes them: 40.0 for 40, 100000.0 for 1e+05). Writes OUTDIR/sweep.csv (the columns of
+`funnel sweep`) and OUTDIR/sweep.png.
 """
 
 import csv
@@ -24,7 +25,7 @@ mus = [0.05, 0.2, 1.0]
 table = funnel.sweep(theta="40:50:1", mu=mus, samples=400)  # one 1-D array per column
 
 with open(outdir / "sweep.csv", "w", newline="") as f:
-    writer = csv.writer(f)
+    writer = csv.writer(f, lineterminator="\n")  # Unix lines, as funnel sweep writes them
     writer.writerow(table)
     writer.writerows(zip(*(values.tolist() for values in table.values())))
 print(f"wrote {outdir / 'sweep.csv'} ({len(table['theta'])} grid points)")
