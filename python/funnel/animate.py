@@ -211,4 +211,8 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except KeyboardInterrupt:  # Ctrl-C: one line and the shell's status, not a traceback (no file is left)
+        print("python -m funnel.animate: interrupted", file=sys.stderr)
+        sys.exit(130)

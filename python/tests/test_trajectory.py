@@ -292,3 +292,22 @@ def test_a_run_with_no_event_is_refused_naming_t_max(tmp_path):
     result, geometry = trajectory.simulate_for_plot(0.3, t_max=0.5)
     with pytest.raises(ValueError, match="an empty log"):
         trajectory.plot_trajectory(result, geometry)
+
+
+def test_ctrl_c_stops_an_animation_with_one_line_and_no_file(tmp_path):
+    # It printed a 237-line KeyboardInterrupt traceback (no file was left, as now).
+    import signal
+    import subprocess
+    import sys
+    import time
+    out = tmp_path / "x.gif"
+    run = subprocess.Popen([sys.executable, "-m", "funnel.animate", "--release", "0.3", "--fps", "60", "--out", str(out)],
+                           stderr=subprocess.PIPE, text=True)
+    time.sleep(2.5)  # past the imports (about 0.5 s), within the frames (about 8 s)
+    run.send_signal(signal.SIGINT)
+    err = run.communicate(timeout=60)[1]
+    if run.returncode == 0:
+        pytest.skip("the animation was written before the signal")
+    assert run.returncode == 130, err
+    assert err.strip().splitlines() == ["python -m funnel.animate: interrupted"]
+    assert not out.exists() and not list(tmp_path.iterdir())
