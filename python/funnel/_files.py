@@ -7,9 +7,19 @@ removed on any failure, so that neither a partial file nor a stray temporary is 
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import os
 from pathlib import Path
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """The package's command lines: an error is one line naming what is wrong, then where the
+    options are listed, with exit status 2, as `funnel`'s own (argparse printed its whole usage
+    block first)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\nRun '{self.prog} --help' for its options.\n")
 
 
 def check_output(out, what="out"):

@@ -165,8 +165,8 @@ def animate(result, geometry, out, t_start=0.0, t_end=None, speed=None, fps=20, 
 
 def main(argv=None):
     """Command line: simulate one trajectory and animate it into --out."""
-    import argparse
-    parser = argparse.ArgumentParser(prog="python -m funnel.animate", description=(
+    from ._files import OneLineParser
+    parser = OneLineParser(prog="python -m funnel.animate", description=(
         "Simulate one trajectory (funnel.simulate) and write an animation: the funnel with the path so far, "
         "and a close-up following the ball with its spin. GIF through Pillow; MP4 when ffmpeg is installed."))
     tr.add_model_arguments(parser)

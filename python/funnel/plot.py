@@ -683,7 +683,7 @@ def render_all(outdir, log=None, jobs=None):
 def main(argv=None):
     """Command line: ``python -m funnel.plot OUTDIR``, or ``python -m funnel.plot trajectory
     --theta 60 --release 0.3 --out traj.png`` for one trajectory (funnel.trajectory)."""
-    import argparse
+    from ._files import OneLineParser
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["trajectory"]:
         from .trajectory import main as trajectory_main
@@ -691,7 +691,7 @@ def main(argv=None):
     if argv[:1] == ["bench"]:
         from .plot_bench import main as bench_main
         return bench_main(argv[1:])
-    parser = argparse.ArgumentParser(prog="python -m funnel.plot", description=(
+    parser = OneLineParser(prog="python -m funnel.plot", description=(
         "Render OUTDIR/figNN/figNN.{png,svg} from figNN.{json,csv} for every figure directory, "
         "then write OUTDIR/index.html."), epilog=(
         "One trajectory: python -m funnel.plot trajectory --theta 60 --release 0.3 --out traj.png "

@@ -59,8 +59,8 @@ def plot_bench(bench, out):
 
 
 def main(argv=None, prog="python -m funnel.plot bench"):
-    import argparse
-    parser = argparse.ArgumentParser(prog=prog, description=__doc__.splitlines()[0])
+    from ._files import OneLineParser
+    parser = OneLineParser(prog=prog, description=__doc__.splitlines()[0])
     parser.add_argument("bench", help="the JSON of funnel bench --format json ('-': standard input)")
     parser.add_argument("--out", default="bench.png", help="picture to write, .png or .svg (default bench.png)")
     args = parser.parse_args(argv)

@@ -394,10 +394,10 @@ def nothing_to_draw(result):
 
 def main(argv=None, prog="python -m funnel.trajectory"):
     """Command line: simulate one trajectory and draw it into --out."""
-    import argparse
+    from ._files import OneLineParser
     import matplotlib
     from .plot import STYLE
-    parser = argparse.ArgumentParser(prog=prog, description=(
+    parser = OneLineParser(prog=prog, description=(
         "Simulate one trajectory (funnel.simulate) and draw it: the funnel, the centre's path coloured by "
         "time and the collision points, with a zoom on the bounces when the particle settles into them."))
     add_model_arguments(parser)

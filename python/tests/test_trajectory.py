@@ -289,6 +289,8 @@ def test_a_run_with_no_event_is_refused_naming_t_max(tmp_path):
         assert run.returncode == 2, run.stderr
         assert "error: invalid t-max = 0.5: the run ends before its first collision" in run.stderr
         assert "Traceback" not in run.stderr and not out.exists()
+        # One line and a pointer to --help, not argparse's usage block.
+        assert "usage:" not in run.stderr and len(run.stderr.strip().splitlines()) == 2, run.stderr
     result, geometry = trajectory.simulate_for_plot(0.3, t_max=0.5)
     with pytest.raises(ValueError, match="an empty log"):
         trajectory.plot_trajectory(result, geometry)
