@@ -186,7 +186,8 @@ void validate_all(const std::vector<Params>& points, Space space, const Ensemble
         return a != b && !(std::isnan(a) && std::isnan(b));
       };
       if (info.option && std::any_of(points.begin(), points.end(), varies)) {
-        at += (at.empty() ? "" : ", ") + std::string(info.name) + " = " + format_number(info.get(p));
+        if (!at.empty()) at += ", ";
+        at.append(info.name).append(" = ").append(format_number(info.get(p)));
       }
     }
     throw UsageError(err->message() + (at.empty() ? "" : " (at the grid point " + at + ")"));

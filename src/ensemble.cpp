@@ -69,8 +69,15 @@ std::optional<ParamError> validate(const EnsembleOptions& o) {
   return std::nullopt;
 }
 
+namespace {
+
+/// The funnel of `params` is its own mirror image (x -> -x): the paper's V without building it.
+bool symmetric_funnel(const Params& params) { return params.plain_v() || make_funnel(params).symmetric; }
+
+}  // namespace
+
 std::optional<ParamError> validate(const Params& params, const EnsembleOptions& options) {
-  if (options.dist != ReleaseDist::Disk || params.plain_v() || make_funnel(params).symmetric) return std::nullopt;
+  if (options.dist != ReleaseDist::Disk || symmetric_funnel(params)) return std::nullopt;
   return ParamError{"release-dist", "disk",
                     "line, uniform or gaussian in a funnel that is not mirror symmetric (disk releases are the "
                     "cone's, at x0 = r > 0 only: they would never release over its left half)"};
@@ -185,7 +192,7 @@ bool is_random(const EnsembleOptions& o) {
 
 bool mirror_symmetric(const Params& params, const EnsembleOptions& options) {
   return options.dist == ReleaseDist::Line && params.release_u == 0.0 && params.release_spin == 0.0 &&
-         options.velocity_sd == 0.0 && (params.plain_v() || make_funnel(params).symmetric);
+         options.velocity_sd == 0.0 && symmetric_funnel(params);
 }
 
 Trajectory mirrored(Trajectory t) {

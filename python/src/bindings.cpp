@@ -411,20 +411,16 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
                double velocity_sd, const py::object& progress, const py::object& geometry) {
   const Params base = make_params({}, geometry);
   std::vector<funnel::Axis> axes;
-  const auto given = [&](const char* key) {
+  const auto given = [&](const char* key) -> const std::vector<double>* {  // the axis's values, if any
     for (const auto& [k, values] : axes_in) {
-      if (k == key) return !values.empty();
+      if (k == key && !values.empty()) return &values;
     }
-    return false;
+    return nullptr;
   };
-  if (given("theta") && given("theta_left") && given("theta_right")) {
-    for (const auto& [key, values] : axes_in) {
-      if (key == "theta") {
-        throw py::value_error(funnel::ParamError{"theta", funnel::format_number(values.front()),
-                                                 std::string(funnel::not_with_both_sides)}
-                                  .message());
-      }
-    }
+  if (const auto* theta = given("theta"); theta != nullptr && given("theta_left") && given("theta_right")) {
+    throw py::value_error(
+        funnel::ParamError{"theta", funnel::format_number(theta->front()), std::string(funnel::not_with_both_sides)}
+            .message());
   }
   for (const auto& [key, values] : axes_in) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
@@ -453,12 +449,9 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
   // Each value must be settable (max-collisions integral) and every point valid, before any work.
   check_sweep_axes(axes);
   const std::vector<Params> points = funnel::expand_grid(base, axes);
-  for (const Params& p : points) {
-    if (const auto err = funnel::validate(p)) throw py::value_error(err->message());
-  }
   funnel::EnsembleOptions options = ensemble_options(samples, dist, threads, seed, release, release_sd, velocity_sd, 0);
   for (const Params& p : points) {
-    if (const auto err = funnel::validate(p, options)) throw py::value_error(err->message());
+    if (auto err = funnel::validate(p); err || (err = funnel::validate(p, options))) throw py::value_error(err->message());
   }
   std::vector<funnel::EnsembleResult> results;
   run_interruptible(options, progress, [&](const funnel::Progress& report) {
