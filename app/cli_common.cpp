@@ -78,21 +78,11 @@ void add_geometry_option(CLI::App& app, ModelOptions& options) {
 
 Params base_params(const ModelOptions& options) {
   Params p = default_params();
-  if (const auto theta = options.given.find("theta");
-      theta != options.given.end() && options.given.contains("theta-left") && options.given.contains("theta-right")) {
-    throw UsageError("invalid theta = " + theta->second + ": valid range is " + std::string(not_with_both_sides));
-  }
-  if (!options.geometry.empty()) {
-    // The file's walls replace the V, and their own materials the parameters': such a parameter
-    // given too would be ignored, yet recorded in the output as if it had been used (and a sweep
-    // over it would label equal rows apart).
-    p.profile = read_geometry(options.geometry);
-    for (const auto& [name, text] : options.given) {
-      if (const auto why = unused_with_geometry(name, *p.profile)) {
-        throw UsageError("invalid " + name + " = " + text + ": valid range is " + *why);
-      }
-    }
-  }
+  // The file's walls replace the V, and their own materials the parameters'.
+  if (!options.geometry.empty()) p.profile = read_geometry(options.geometry);
+  std::vector<GivenParameter> given;
+  for (const auto& [name, text] : options.given) given.push_back({name, text});
+  if (const auto err = unused_given(given, p.profile.get())) throw UsageError(err->message());
   return p;
 }
 

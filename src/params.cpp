@@ -160,6 +160,26 @@ std::optional<std::string> unused_with_geometry(std::string_view name, const Pro
          format_number(*(*own)[0]) + ", right " + format_number(*(*own)[1]) + ")";
 }
 
+std::optional<ParamError> unused_given(std::span<const GivenParameter> given, const ProfileSpec* profile) {
+  const auto find = [&](std::string_view name) -> const GivenParameter* {
+    for (const GivenParameter& g : given) {
+      if (const ParameterInfo* p = find_parameter(g.name); p != nullptr && p->name == name) return &g;
+    }
+    return nullptr;
+  };
+  if (const GivenParameter* theta = find("theta"); theta != nullptr && find("theta-left") && find("theta-right")) {
+    return ParamError{"theta", theta->value, std::string(not_with_both_sides)};
+  }
+  if (profile != nullptr) {
+    for (const GivenParameter& g : given) {
+      const ParameterInfo* p = find_parameter(g.name);
+      if (p == nullptr) continue;
+      if (auto why = unused_with_geometry(p->name, *profile)) return ParamError{std::string(p->name), g.value, std::move(*why)};
+    }
+  }
+  return std::nullopt;
+}
+
 std::string ParamError::message() const {
   return "invalid " + name + " = " + value + ": valid range is " + range;
 }

@@ -142,6 +142,20 @@ bool set_by_geometry(std::string_view name);
 /// output (a sweep would label equal rows apart) as if it had been used.
 std::optional<std::string> unused_with_geometry(std::string_view name, const ProfileSpec& profile);
 
+/// A parameter given by a front end (command line, Python, a figure's definition): its name (any
+/// spelling find_parameter takes) and its value as the user wrote it (a list for a sweep axis).
+struct GivenParameter {
+  std::string name;
+  std::string value;
+};
+
+/// The first given parameter that would have no effect, as a ParamError naming it, or nothing:
+/// theta given with both theta-left and theta-right (not_with_both_sides), checked first, then a
+/// parameter that the funnel of the geometry file `profile` (if any) replaces
+/// (unused_with_geometry). Such a parameter is bad input: it would be recorded in the output (a
+/// sweep over it would label equal rows apart) as if it had been used.
+std::optional<ParamError> unused_given(std::span<const GivenParameter> given, const ProfileSpec* profile);
+
 /// A parameter's value as the outputs report it: NaN (JSON null, an empty CSV field, Python None
 /// or NaN) for one that the funnel of a geometry file leaves unused (unused_with_geometry), and
 /// for theta when theta-left and theta-right are both set, so that no output shows a theta the

@@ -113,9 +113,19 @@ def _space(value):
     return value
 
 
+def _item(value):
+    """A 0-d numpy array of reals (np.array(60.0)) as its number, as numpy itself treats it;
+    anything else unchanged."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        return value.item()
+    return value
+
+
 def _scalar(name, value):
     """A model value as float; TypeError for anything that is not a real number, ValueError
-    naming the parameter for an integer beyond the doubles (10**400: OverflowError otherwise)."""
+    naming the parameter for an integer beyond the doubles (10**400: OverflowError otherwise).
+    A 0-d numpy array of reals is its number (_item)."""
+    value = _item(value)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, not {type(value).__name__}")
     try:
@@ -161,6 +171,7 @@ _COUNT_RANGES = {
 def _count(name, value):
     """An integer option (samples, threads, ...) in its range; floats are accepted when integral."""
     lo, hi, text = _COUNT_RANGES.get(name, (-(2**62), 2**62, "an integer"))
+    value = _item(value)
     if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be an integer, not bool")
     if isinstance(value, numbers.Integral):

@@ -201,6 +201,9 @@ def main(argv=None):
     except ValueError as error:
         parser.error(str(error))
     frames, speed, turn = animate(result, geometry, args.out, args.t_start, args.t_end, args.speed, args.fps)
+    if args.t_end is not None and args.t_end > last:
+        print(f"funnel.animate: note: the trajectory ends at t = {last:.6g}, before --t-end {args.t_end:g}; "
+              "the animation ends there", file=sys.stderr)
     print(f"funnel.animate: wrote {args.out} ({frames} frames at {args.fps} fps, {speed:.3g} sqrt(H/g) per second)",
           file=sys.stderr)
     if turn > math.pi / 2:

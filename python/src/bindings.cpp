@@ -149,19 +149,15 @@ std::shared_ptr<const funnel::ProfileSpec> profile_of(const py::object& geometry
 Params make_params(const std::map<std::string, double>& model, const py::object& geometry = py::none()) {
   Params p = funnel::default_params();
   p.profile = profile_of(geometry);
-  if (const auto theta = model.find("theta");
-      theta != model.end() && model.contains("theta_left") && model.contains("theta_right")) {
-    throw py::value_error(
-        funnel::ParamError{"theta", funnel::format_number(theta->second), std::string(funnel::not_with_both_sides)}.message());
-  }
+  std::vector<funnel::GivenParameter> given;
   for (const auto& [key, value] : model) {
     const funnel::ParameterInfo* info = funnel::find_parameter(key);
     if (info == nullptr || !info->option) throw py::type_error("unknown model parameter '" + key + "'");
-    if (p.profile) {
-      if (const auto why = funnel::unused_with_geometry(info->name, *p.profile)) {
-        throw py::value_error(funnel::ParamError{std::string(info->name), funnel::format_number(value), *why}.message());
-      }
-    }
+    given.push_back({key, funnel::format_number(value)});
+  }
+  if (const auto err = funnel::unused_given(given, p.profile.get())) throw py::value_error(err->message());
+  for (const auto& [key, value] : model) {
+    const funnel::ParameterInfo* info = funnel::find_parameter(key);
     if (const auto err = funnel::set_parameter_checked(p, info->name, value)) throw py::value_error(err->message());
   }
   if (const auto err = funnel::validate(p, funnel::Space::TwoD)) throw py::value_error(err->message());
@@ -411,26 +407,11 @@ py::dict sweep(const std::vector<std::pair<std::string, std::vector<double>>>& a
                double velocity_sd, const py::object& progress, const py::object& geometry) {
   const Params base = make_params({}, geometry);
   std::vector<funnel::Axis> axes;
-  const auto given = [&](const char* key) -> const std::vector<double>* {  // the axis's values, if any
-    for (const auto& [k, values] : axes_in) {
-      if (k == key && !values.empty()) return &values;
-    }
-    return nullptr;
-  };
-  if (const auto* theta = given("theta"); theta != nullptr && given("theta_left") && given("theta_right")) {
-    throw py::value_error(
-        funnel::ParamError{"theta", funnel::format_number(theta->front()), std::string(funnel::not_with_both_sides)}
-            .message());
-  }
+  std::vector<funnel::GivenParameter> given;  // each axis given, named by its first value
   for (const auto& [key, values] : axes_in) {
-    const funnel::ParameterInfo* info = funnel::find_parameter(key);
-    if (base.profile && info != nullptr && !values.empty()) {
-      if (const auto why = funnel::unused_with_geometry(info->name, *base.profile)) {
-        throw py::value_error(
-            funnel::ParamError{std::string(info->name), funnel::format_number(values.front()), *why}.message());
-      }
-    }
+    if (!values.empty()) given.push_back({key, funnel::format_number(values.front())});
   }
+  if (const auto err = funnel::unused_given(given, base.profile.get())) throw py::value_error(err->message());
   for (const std::string& name : funnel::sweep_parameter_names()) {
     for (const auto& [key, values] : axes_in) {
       if (library_name(key) != name) continue;

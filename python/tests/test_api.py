@@ -161,6 +161,18 @@ def test_wrong_keywords_and_types_raise_type_error():
         funnel.simulate(release=0.3, theta="60")
     with pytest.raises(TypeError, match="e must be a real number"):
         funnel.geometry(e=True)
+    with pytest.raises(TypeError, match="theta must be a real number, not ndarray"):
+        funnel.simulate(release=0.3, theta=np.array([60.0]))
+    with pytest.raises(TypeError, match="e must be a real number, not ndarray"):
+        funnel.geometry(e=np.array(True))
+
+
+def test_zero_dimensional_arrays_are_their_numbers():
+    # np.array(60.0) is the number 60 (as numpy treats it): the same bits as the float.
+    a = funnel.simulate(release=np.array(0.3), theta=np.array(60.0), mu=np.array(1))
+    b = funnel.simulate(release=0.3, theta=60.0, mu=1)
+    assert a["duration"] == b["duration"] and a["collisions"] == b["collisions"]
+    assert funnel.ensemble(samples=np.array(40), theta=np.array(50))["samples"] == 40
 
 
 # ---------------------------------------------------------------------------------------------
@@ -295,6 +307,7 @@ def test_mirror_release_gives_mirror_trajectory():
     a = funnel.simulate(release=0.37, theta=52, events=True)
     b = funnel.simulate(release=-0.37, theta=52, events=True)
     assert a["duration"] == b["duration"] and a["collisions"] == b["collisions"]
+    assert funnel.ensemble(samples=np.array(40), theta=np.array(50))["samples"] == 40
     np.testing.assert_array_equal(a["events"]["x"], -b["events"]["x"])
 
 

@@ -157,6 +157,15 @@ def test_animate_command_errors(tmp_path, capsys):
     assert not list(tmp_path.iterdir())
 
 
+def test_animate_says_when_the_trajectory_ends_before_t_end(tmp_path, capsys):
+    out = tmp_path / "short.gif"
+    assert animate.main(["--release", "0.3", "--theta", "30", "--t-start", "0.9", "--t-end", "1e6", "--fps", "1",
+                         "--speed", "2", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    duration = funnel.simulate(release=0.3, theta=30)["duration"]
+    assert f"the trajectory ends at t = {duration:.6g}, before --t-end 1e+06" in err and out.exists()
+
+
 def test_model_options_match_the_library():
     import argparse
     parser = argparse.ArgumentParser()

@@ -197,11 +197,13 @@ void validate_figure(const FigureSpec& fig) {
     const std::string where = fig.panels.size() > 1 ? " (panel '" + panel.id + "')" : "";
     Params base = panel_params(fig, panel);
     // theta given with both walls' angles would change nothing (refused on the command line).
-    const auto given = [&](const std::string& name) {
-      return fig.params.contains(name) || panel.params.contains(name) ||
-             std::any_of(fig.grid.begin(), fig.grid.end(), [&](const Axis& a) { return a.name == name; });
-    };
-    const bool theta_given = given("theta") || !fig.thetas.empty();
+    std::vector<GivenParameter> given;
+    for (const auto* params : {&fig.params, &panel.params}) {
+      for (const auto& [name, value] : *params) given.push_back({name, format_number(value)});
+    }
+    for (const Axis& a : fig.grid) given.push_back({a.name, ""});
+    if (!fig.thetas.empty()) given.push_back({"theta", ""});
+    if (const auto err = unused_given(given, nullptr)) fail(file, "invalid " + err->name + ": valid range is " + err->range + where);
     for (const Params& p : expand_grid(base, fig.grid)) {
       Params q = p;
       if (panel.theta_right_offset) {
@@ -211,10 +213,6 @@ void validate_figure(const FigureSpec& fig) {
         if (!(q.theta_right > 0.0 && q.theta_right < 90.0)) continue;
       }
       if (const auto err = validate(q)) fail(file, err->message() + where);
-      if (theta_given && !panel.theta_right_offset && !Params::is_unset(q.theta_left) &&
-          !Params::is_unset(q.theta_right)) {
-        fail(file, "invalid theta: valid range is " + std::string(not_with_both_sides) + where);
-      }
       for (const EnsembleOptions& o : releases) {
         if (const auto err = validate(q, o)) fail(file, err->message() + where);
       }
