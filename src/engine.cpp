@@ -114,7 +114,11 @@ class Run {
     }
     switch (ev.kind) {
       case EventKind::Exit:
-        state_.r.y = f_.y_exit;
+        if (ev.sideways) {
+          state_.r.x = f_.side_exit_end.x;
+        } else {
+          state_.r.y = f_.y_exit;
+        }
         out_.exit_state = state_;
         log_simple(EventKind::Exit, std::nullopt);
         end(Status::Exited, time_);

@@ -196,13 +196,21 @@ double exit_time(const Funnel& f, const State& s) {
   return v >= 0.0 ? v + root : 2.0 * h / (root - v);
 }
 
+double side_exit_time(const Funnel& f, const State& s) {
+  if (f.side_exit == 0) return never;
+  const double gap = f.side_exit_end.x - s.r.x;  // outward: the same sign as side_exit
+  if (!(f.side_exit * s.v.x > 0.0) || f.side_exit * gap < 0.0) return never;
+  const double t = gap / s.v.x;
+  return advance(s, t).r.y < f.side_exit_end.y ? t : never;
+}
+
 namespace {
 
 /// The event search. `OneFace`: each wall is one straight face over its outlet edge (the V):
 /// the loops then have a known trip count of one (the same arithmetic in the same order).
 template <bool OneFace>
 [[gnu::always_inline]] inline NextEvent search(const Funnel& f, const State& s, const FlightStart& start) {
-  NextEvent ev{EventKind::Face, {}, never};
+  NextEvent ev{EventKind::Face, {}, false, never};
   const Face* hit_face = nullptr;
   if constexpr (OneFace) {
     // The two faces' lines first, the region checked for the earlier one only (and for the
@@ -213,9 +221,9 @@ template <bool OneFace>
     const WallPart first = left_first ? left : right, second = left_first ? right : left;
     const double t1 = left_first ? tl : tr, t2 = left_first ? tr : tl;
     if (t1 != never && reached_on_region(f, s, first, t1)) {
-      ev = {EventKind::Face, first, t1};
+      ev = {EventKind::Face, first, false, t1};
     } else if (t2 != never && reached_on_region(f, s, second, t2)) {
-      ev = {EventKind::Face, second, t2};
+      ev = {EventKind::Face, second, false, t2};
     }
     if (ev.dt != never) hit_face = &face_of(f, ev.part);
   } else {
@@ -224,7 +232,7 @@ template <bool OneFace>
       for (int k = 0; k < static_cast<int>(side.faces.size()); ++k) {
         const double t = face_time(f, s, {wall, k}, start);
         if (t < ev.dt) {
-          ev = {EventKind::Face, {wall, k}, t};
+          ev = {EventKind::Face, {wall, k}, false, t};
           hit_face = &side.faces[k];
         }
       }
@@ -235,7 +243,11 @@ template <bool OneFace>
   // them too stays above them: no edge can be touched and the exit (below) cannot be crossed.
   if (ev.dt != never && (f.closed || (s.r.y > f.skip_height && hit_face->low.y >= f.skip_height))) return ev;
   const double t_exit = exit_time(f, s);
-  if (t_exit <= ev.dt) ev = {EventKind::Exit, {}, t_exit};
+  if (t_exit <= ev.dt) ev = {EventKind::Exit, {}, false, t_exit};
+  if (!OneFace && f.side_exit != 0) {
+    const double t_side = side_exit_time(f, s);
+    if (t_side < ev.dt) ev = {EventKind::Exit, {}, true, t_side};
+  }
   // Edges are searched only up to the earliest face or exit event, all over that same window:
   // the last bits of a refined root depend on the window's end, and a mirror-image state must
   // give the mirror-image event (found by fuzz/fuzz_physics: with both edges in reach, the
@@ -247,7 +259,7 @@ template <bool OneFace>
     for (int k = 0; k < corners; ++k) {
       if (!side.corners[k].convex) continue;
       const double t = edge_time(f, s, {wall, k}, start, window);
-      if (t < ev.dt) ev = {EventKind::Edge, {wall, k}, t};
+      if (t < ev.dt) ev = {EventKind::Edge, {wall, k}, false, t};
     }
   }
   return ev;

@@ -124,6 +124,10 @@ void finish(Funnel& f, const Params& params) {
   f.closed = f.sides[0].corners[0].bottom;
   f.one_face = f.sides[0].faces.size() == 1 && f.sides[1].faces.size() == 1;
   f.y_exit = std::min(el.y, er.y);
+  if (!f.closed && el.y != er.y) {
+    f.side_exit = el.y > er.y ? -1 : 1;
+    f.side_exit_end = el.y > er.y ? el : er;
+  }
 }
 
 Funnel v_funnel(const Params& params) {

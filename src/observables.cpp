@@ -21,7 +21,7 @@ constexpr std::array<ObservableInfo, observable_count_3d> table{{
     {Observable::Contacts, "contacts", "sustained face contacts", "", true, false, false, false},
     {Observable::EdgeContacts, "edge_contacts", "sustained edge contacts", "", true, false, true, false},
     {Observable::ContactTime, "contact_time", "time in sustained contact (faces and edges)", "sqrt(H/g)", false, false, true, false},
-    {Observable::ExitX, "exit_x", "centre's x at the exit level", "H", false, true, true, true},
+    {Observable::ExitX, "exit_x", "centre's x at the exit level (or, passing under a higher lower end sideways, that end's x)", "H", false, true, true, true},
     {Observable::ExitU, "exit_u", "horizontal velocity at the exit", "sqrt(gH)", false, true, true, true},
     {Observable::ExitV, "exit_v", "vertical velocity at the exit (negative: down)", "sqrt(gH)", false, true, true, false},
     {Observable::ExitSpeed, "exit_speed", "speed at the exit", "sqrt(gH)", false, true, true, false},

@@ -268,12 +268,18 @@ TEST(Profile, NoFreeFlightEntersAWallOverWholeEnsembles) {
   asym.theta_left = 15.0;
   asym.theta_right = 35.0;
   cases.push_back(asym);
+  // Lower ends at different heights, the lower one on a lip that throws the ball up and out
+  // under the higher end (found by an audit: a flight then crossed the right wall from behind).
+  ProfileSpec lip;
+  lip.sides[0] = {{-2.5, 2.0}, {-0.6, 0.3}, {-0.6, -0.2}, {-0.1, -0.382}};
+  lip.sides[1] = {{4.0, 0.8}, {0.3, 0.0}};
+  cases.push_back(with_profile(lip));
   std::int64_t edge_contacts = 0;
   for (Params base : cases) {
-    for (const double e : {0.1, 0.6}) {
+    for (const auto& [e, mu] : {std::pair{0.1, 1.0}, std::pair{0.6, 1.0}, std::pair{1.0, 0.0}, std::pair{0.95, 0.0}}) {
       Params p = base;
       p.e = e;
-      p.mu = 1.0;
+      p.mu = mu;
       p.t_max = 200.0;
       ASSERT_FALSE(validate(p)) << validate(p)->message();
       const Funnel f = make_funnel(p);
@@ -282,12 +288,60 @@ TEST(Profile, NoFreeFlightEntersAWallOverWholeEnsembles) {
       const FlightAudit& total = audit.flights;
       edge_contacts += audit.edge_contacts;
       EXPECT_EQ(total.trajectories, n);
-      EXPECT_EQ(total.edge_overlaps, 0) << f.source << " e=" << e;
-      EXPECT_EQ(total.face_crossings, 0) << f.source << " e=" << e << " depth " << total.max_face_depth;
-      EXPECT_EQ(total.exits_outside, 0) << f.source << " e=" << e;
+      EXPECT_EQ(total.edge_overlaps, 0) << f.source << " e=" << e << " mu=" << mu;
+      EXPECT_EQ(total.face_crossings, 0) << f.source << " e=" << e << " mu=" << mu << " depth " << total.max_face_depth;
+      EXPECT_EQ(total.exits_outside, 0) << f.source << " e=" << e << " mu=" << mu;
     }
   }
   EXPECT_GT(edge_contacts, 10);
+}
+
+TEST(Profile, ABallThatPassesUnderTheHigherEndSidewaysExitsThere) {
+  // Lower ends at unequal heights; the lower one on a lip that throws the ball up and out under
+  // the higher end (0.3, 0). It has left the funnel at the vertical through that end: there it
+  // exits, never to fly on behind the wall and land on it from above (an audit's finding).
+  ProfileSpec lip;
+  lip.sides[0] = {{-2.5, 2.0}, {-0.6, 0.3}, {-0.6, -0.2}, {-0.1, -0.382}};
+  lip.sides[1] = {{4.0, 0.8}, {0.3, 0.0}};
+  Params p = with_profile(lip);
+  p.e = 1.0;
+  p.mu = 0.0;
+  const Funnel f = make_funnel(p);
+  ASSERT_EQ(f.side_exit, 1);
+  EventLog log;
+  const Trajectory t = simulate_release(p, f, 0.16, &log);
+  ASSERT_EQ(t.status, Status::Exited);
+  EXPECT_EQ(t.collisions, 4);  // the fourth, on the lip, throws it out (before: 17, the fifth on the wall from behind)
+  EXPECT_EQ(t.exit_state.r.x, 0.3);
+  EXPECT_LT(t.exit_state.r.y, -p.radius);  // under the end, clear of its edge circle
+  EXPECT_GT(t.exit_state.r.y, f.y_exit);
+  EXPECT_GT(t.exit_state.v.x, 0.0);
+  EXPECT_EQ(log.events.back().kind, EventKind::Exit);
+  EXPECT_EQ(log.events.back().position.x, 0.3);
+  EXPECT_EQ(value(t, Observable::ExitX), 0.3);
+  // Elastic and frictionless: the energy at the exit's own height is the release's.
+  EXPECT_NEAR(energy(t.exit_state, p.inertia, p.radius), energy(release_state(p, f, 0.16), p.inertia, p.radius), 1e-14);
+  EXPECT_EQ(t.energy_loss, 0.0);
+  // Over an ensemble: sideways exits happen, every exit is under the higher end or on the exit
+  // level, and the energy of each exited sample closes at its exit height.
+  int sideways = 0;
+  for (const double e : {1.0, 0.95}) {
+    p.e = e;
+    for (int k = 0; k < 199; ++k) {
+      const double x = release_fraction(ReleaseDist::Line, k, 199);
+      const Trajectory r = simulate_release(p, f, x);
+      if (r.status != Status::Exited) continue;
+      const Vec2 at = r.exit_state.r;
+      if (at.y != f.y_exit) {
+        ++sideways;
+        EXPECT_EQ(at.x, 0.3) << x;
+        EXPECT_LT(at.y, -p.radius) << x;
+      }
+      EXPECT_NEAR(energy(r.exit_state, p.inertia, p.radius) + r.energy_loss,
+                  energy(release_state(p, f, x), p.inertia, p.radius), 1e-12) << x;
+    }
+  }
+  EXPECT_GT(sideways, 3);
 }
 
 TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {

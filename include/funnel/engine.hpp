@@ -87,7 +87,7 @@ struct Trajectory {
   /// §4): sweeps over mu reuse it instead of running it again.
   bool slid = false;
   State final_state;                ///< state when the run ended
-  State exit_state;                 ///< state at the exit level (status Exited only)
+  State exit_state;                 ///< state at the exit: on the exit level or under a higher end passed sideways (status Exited only)
 };
 
 struct Wear;

@@ -48,6 +48,7 @@ struct FlightStart {
 struct NextEvent {
   EventKind kind = EventKind::Exit;  ///< Face, Edge or Exit
   WallPart part;                     ///< the face of a Face event, the corner of an Edge event
+  bool sideways = false;             ///< Exit: under the higher lower end (Funnel::side_exit), not through the exit level
   double dt = 0.0;                   ///< time until the event; `never` if nothing happens
 };
 
@@ -68,6 +69,10 @@ double edge_time(const Funnel& f, const State& s, WallPart corner, const FlightS
 
 /// Time until the centre crosses the outlet downward, or `never` for a closed funnel.
 double exit_time(const Funnel& f, const State& s);
+
+/// Time until the centre crosses, outward and below it, the vertical through the higher of two
+/// unequal lower ends (Funnel::side_exit), or `never`.
+double side_exit_time(const Funnel& f, const State& s);
 
 /// The earliest of the face, edge and exit events (faces win ties with edges at C*).
 NextEvent next_event(const Funnel& f, const State& s, const FlightStart& start);

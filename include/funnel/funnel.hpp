@@ -68,6 +68,11 @@ struct Funnel {
   bool symmetric = false;       ///< the right wall is the exact mirror of the left one (and materials equal)
   bool one_face = false;        ///< each wall is one straight face over its lower end (a V without a spout)
   double y_exit = 0.0;          ///< exit level: the lower of the two lower ends (crossed downward = exited)
+  /// Lower ends at unequal heights: the side of the higher one (-1 left, +1 right; 0 for equal
+  /// ends or a closed funnel) and its vertex. A centre that crosses the vertical through that
+  /// vertex outward, below it, has passed under the higher end sideways: it has exited there.
+  int side_exit = 0;
+  Vec2 side_exit_end{};
   double y_bottom = 0.0;        ///< the funnel bottom: release-height is measured from it
   double y_release = 0.0;       ///< release height of the centre
   double x_release_mid = 0.0;   ///< middle of the release line
