@@ -15,7 +15,7 @@ namespace funnel::cli {
 namespace {
 
 /// Model options whose default differs here: e = 1 as in the paper's Figs. 11-12 (with e < 1
-/// every release ends at rest) and caps suited to deciding periodic or rest.
+/// there is no periodic orbit) and caps suited to deciding periodic or rest.
 const std::pair<const char*, const char*> closed_defaults[] = {{"e", "1"}, {"t-max", "1e4"}, {"max-collisions", "1e7"}};
 
 struct ClosedCommand {
@@ -123,7 +123,7 @@ void add_closed_command(CLI::App& app, const std::string& command_line) {
   add_model_options(*sub, cmd->model, false);
   add_geometry_option(*sub, cmd->model);
   sub->get_option("--e")->description("normal restitution; " + std::string(valid_range("e")) +
-                                      " (default 1 here, as in the paper's Figs. 11-12; with e < 1 every release ends at rest)");
+                                      " (default 1 here, as in the paper's Figs. 11-12; with e < 1 there is no periodic orbit: each release ends at rest or is undecided)");
   sub->get_option("--gap")->description("gap between the walls' lower edges / H: 0 here, a closed funnel (default 0)");
   sub->get_option("--t-max")->description(
       "time cap per release, units of sqrt(H/g); " + std::string(valid_range("t-max")) + " (default 1e4 here); beyond it: undecided");

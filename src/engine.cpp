@@ -593,7 +593,9 @@ std::int64_t run_many(const Params& params, const Funnel& f, std::span<const Sta
   const int width = simd_lanes() <= 1 ? 1 : batch::width();
   auto watch_of = [&](std::size_t k) { return watches.empty() ? nullptr : &watches[k]; };
   const auto cancelled = [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
-  if (width <= 1 || !batchable(f) || initial.size() < 2) {
+  // (The lanes run the paper's test of the orbit watch, not the two_back one.)
+  const bool two_back = !watches.empty() && watches[0].test().two_back;
+  if (width <= 1 || !batchable(f) || initial.size() < 2 || two_back) {
     for (std::size_t k = 0; k < initial.size() && !cancelled(); ++k) out[k] = simulate(params, f, initial[k], watch_of(k));
     return 0;
   }

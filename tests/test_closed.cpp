@@ -59,6 +59,48 @@ TEST(Closed, InelasticClosedFunnelAlwaysComesToRest) {
   for (const ClosedSample& s : r.samples) EXPECT_EQ(s.x_last, 0.0);
 }
 
+TEST(Closed, NoReleaseIsPeriodicWithEBelowOne) {
+  // At e = 1 - 1e-7 a bounce decays by 5e-8 of its height a collision, within the test's
+  // height_tol: it passed as the orbit (periodic fraction 1, found by an audit). Every collision
+  // loses (1 - e^2) p^2 / 2, so there is no orbit: each release is undecided at t_max (or at rest).
+  Params p = elastic_closed(60.0, 1.0);
+  ClosedOptions o;
+  o.max_time = 300.0;
+  for (const double e : {1.0 - 1e-7, 1.0 - 1e-8}) {
+    p.e = e;
+    const ClosedResult r = run_closed(p, {20, ReleaseDist::Line, 0, false}, o);
+    EXPECT_EQ(r.periodic, 0) << e;
+    EXPECT_EQ(r.undecided + r.rest, 20) << e;
+  }
+  p.e = 1.0;  // the same releases, elastic: the orbit
+  EXPECT_EQ(run_closed(p, {20, ReleaseDist::Line, 0, false}, o).periodic, 20);
+}
+
+TEST(Closed, AnAsymmetricVHasAPeriodicOrbitOfTwoHeights) {
+  // Its walls at 59.9 and 60.1 degrees: the orbit's two collisions are at two heights, each
+  // repeated every second collision (the paper's one-height test never passed there).
+  Params p = elastic_closed(60.0, 1.0);
+  p.theta_left = 59.9;
+  p.theta_right = 60.1;
+  const ClosedResult r = run_closed(p, {4, ReleaseDist::Line, 0, false}, {});
+  EXPECT_EQ(r.periodic, 4);
+  for (const ClosedSample& s : r.samples) {
+    EXPECT_GT(std::fabs(s.y_last - s.y_prev), 1e-5 * s.y_last) << s.fraction;  // two heights
+    EXPECT_LT(s.x_last * s.x_prev, 0.0) << s.fraction;                        // one on each wall
+  }
+  // Its mirror image (59.9 on the right) gives the mirror image of each release's orbit.
+  Params q = p;
+  std::swap(q.theta_left, q.theta_right);
+  const ClosedResult m = run_closed(q, {4, ReleaseDist::Line, 0, false}, {});
+  for (std::size_t k = 0; k < 4; ++k) {
+    const ClosedSample &a = r.samples[k], &b = m.samples[3 - k];
+    EXPECT_EQ(b.state, FinalState::Periodic);
+    EXPECT_EQ(a.collisions, b.collisions);
+    EXPECT_EQ(a.x_last, -b.x_last);
+    EXPECT_EQ(a.y_last, b.y_last);
+  }
+}
+
 TEST(Closed, ShallowFunnelHasNoPeriodicOrbit) {
   // Below 45 degrees the period-2 orbit is unstable: no release settles on it.
   const ClosedResult r = run_closed(elastic_closed(35.0, 1.0), {200, ReleaseDist::Line, 0, false}, {});

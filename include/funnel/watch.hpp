@@ -10,11 +10,14 @@ namespace funnel {
 
 /// The periodic test: `window` consecutive collisions that alternate walls, have
 /// |slip before| <= slip_tol |velocity before| and repeat the previous collision's height to
-/// height_tol relative.
+/// height_tol relative (the paper's test: the orbit's two collisions are at one height in a
+/// mirror-symmetric funnel), or with `two_back` the height of the one before that, on the same
+/// wall (a funnel that is not mirror symmetric, where the orbit's two heights differ).
 struct OrbitTest {
   int window = 20;
   double slip_tol = 1e-6;
   double height_tol = 1e-6;
+  bool two_back = false;
 };
 
 /// An EventSink that watches the collisions and ends the run (finished()) once the periodic
@@ -26,6 +29,7 @@ class OrbitWatch final : public EventSink {
   struct Memory {
     int streak = 0;          ///< consecutive collisions that passed the test
     bool have_last = false;  ///< a collision has been seen
+    bool have_prev = false;  ///< two have (read only by the two_back test, which the lanes do not run)
     Wall last_wall = Wall::Left;
     Vec2 last, prev;         ///< positions of the last two collisions
   };

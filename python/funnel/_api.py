@@ -732,8 +732,8 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
            **model):
     """Long-time state of every release in a closed funnel (gap 0), like ``funnel closed``.
 
-    As there, e defaults to 1 (the paper's Figs. 11 and 12: with e < 1 every release ends at
-    rest), and the caps are max_time (default 1e4) and max_coll (default 10^7), which the
+    As there, e defaults to 1 (the paper's Figs. 11 and 12: with e < 1 there is no periodic
+    orbit, and each release ends at rest or is undecided), and the caps are max_time (default 1e4) and max_coll (default 10^7), which the
     model's names t_max and max_collisions also set (giving both names of one cap is an error).
     seed, release and release_sd are those of :func:`ensemble` (the random and gaussian
     releases); geometry (as for :func:`simulate`) must close: both walls end at one point.
