@@ -83,11 +83,7 @@ class Run {
   /// The observables once the run has ended (step() returned true).
   Trajectory result() {
     out_.final_state = state_;
-    const double e_end = energy(state_, kappa_, radius_);
-    out_.energy_loss = e0_ - e_end;
-    // A loss within rounding of zero below it (an elastic run) is reported as 0, not -2e-16.
-    const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * std::fmax(std::fabs(e0_), std::fabs(e_end));
-    if (out_.energy_loss < 0.0 && out_.energy_loss > -rounding) out_.energy_loss = 0.0;
+    out_.energy_loss = reported_energy_loss(e0_, energy(state_, kappa_, radius_));
     return out_;
   }
 

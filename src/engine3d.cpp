@@ -101,7 +101,7 @@ class Run3 {
   /// The trajectory of a run that has ended.
   Trajectory3 result() {
     out_.final_state = state_;
-    out_.energy_loss = e0_ - energy(state_, mat_.kappa, mat_.radius);
+    out_.energy_loss = reported_energy_loss(e0_, energy(state_, mat_.kappa, mat_.radius));
     out_.orbits = swept_ / (2.0 * std::numbers::pi);
     return out_;
   }

@@ -1,6 +1,9 @@
 // Walton's collision law for a sphere hitting a wall or an edge (docs/model.md §4, paper Eqs. 1-11).
 #pragma once
 
+#include <cmath>
+#include <limits>
+
 #include "funnel/geometry.hpp"
 
 namespace funnel {
@@ -15,6 +18,14 @@ struct State {
 /// Total mechanical energy (u^2 + v^2)/2 + kappa a^2 omega^2/2 + y, units m g H.
 inline double energy(const State& s, double kappa, double radius) {
   return 0.5 * dot(s.v, s.v) + 0.5 * kappa * radius * radius * s.omega * s.omega + s.r.y;
+}
+
+/// The energy_loss observable, E_0 - E_end (2D and 3D): a loss within rounding of zero below it
+/// (64 eps of the larger energy's size: an elastic run) is reported as 0, not -2e-16.
+inline double reported_energy_loss(double e0, double e_end) {
+  const double loss = e0 - e_end;
+  const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * std::fmax(std::fabs(e0), std::fabs(e_end));
+  return loss < 0.0 && loss > -rounding ? 0.0 : loss;
 }
 
 /// Regime of a collision or of a phase of sustained contact.
