@@ -266,12 +266,15 @@ bool is_stable(const Eigen::Vector4cd& eigenvalues, double unit_tol) {
   return true;
 }
 
-bool is_stable(const OrbitParams& params) { return is_stable(orbit_eigenvalues(params)); }
+bool is_stable(const OrbitParams& params) {
+  const auto roots = cubic_eigenvalues(params);
+  return std::all_of(roots.begin(), roots.end(), [](std::complex<double> r) { return std::abs(r) < 1.0; });
+}
 
 OrbitAnalysis analyse(const OrbitParams& params, double y_star) {
   OrbitAnalysis a;
   a.eigenvalues = orbit_eigenvalues(params);
-  a.stable = is_stable(a.eigenvalues);
+  a.stable = is_stable(params);
   const Eigen::Matrix4d paper = scaled_jacobian(jacobian_paper(y_star, params), y_star, params);
   const Eigen::Matrix4d fd = scaled_jacobian(jacobian_fd(y_star, params), y_star, params);
   a.jacobian_max_rel_diff = (paper - fd).cwiseAbs().maxCoeff() / paper.cwiseAbs().maxCoeff();

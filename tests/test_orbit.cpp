@@ -317,6 +317,23 @@ TEST(OrbitAppendix, AtFortyFiveDegreesTwoEigenvaluesMeetAtOne) {
   }
 }
 
+TEST(OrbitStability, TheOrbitIsStableUpTo90DegreesAndUnstableBelow45) {
+  // Next to 90 degrees a second eigenvalue comes within 1e-8 of 1 (0.999999987 at 89.999), which
+  // the Jacobian's eigensolver resolved only to 4e-8: it missed the neutral eigenvalue and called
+  // the orbit unstable (found by an audit). The closed-form cubic has the neutral 1 factored out.
+  for (const double b : kBeta0s) {
+    for (const double th : {45.001, 60.0, 89.99, 89.996, 89.999, 89.9999}) {
+      EXPECT_TRUE(orbit::is_stable(params_for(th, b))) << "theta " << th << " beta0 " << b;
+      EXPECT_TRUE(orbit::analyse(params_for(th, b), 1.0).stable) << "theta " << th << " beta0 " << b;
+    }
+    for (const double th : {0.001, 30.0, 44.999, 45.0}) {
+      EXPECT_FALSE(orbit::is_stable(params_for(th, b))) << "theta " << th << " beta0 " << b;
+    }
+  }
+  const auto roots = orbit::cubic_eigenvalues(params_for(89.999, 0.0));
+  EXPECT_NEAR(std::abs(roots[0]), 0.999999987206, 1e-12);  // an exact 40-digit computation's
+}
+
 TEST(OrbitStability, IsStableRequiresANeutralEigenvalue) {
   EXPECT_TRUE(orbit::is_stable(Eigen::Vector4cd(1.0, 0.5, 0.2, 0.0)));
   EXPECT_FALSE(orbit::is_stable(Eigen::Vector4cd(0.9, 0.5, 0.2, 0.0)));  // no eigenvalue at 1

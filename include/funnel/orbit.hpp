@@ -110,13 +110,17 @@ inline constexpr double unit_eigenvalue_tolerance = 1e-8;
 /// True if one eigenvalue lies within unit_tol of 1 and the three others have modulus < 1 (linear stability).
 bool is_stable(const Eigen::Vector4cd& eigenvalues, double unit_tol = unit_eigenvalue_tolerance);
 
-/// Linear stability of the period-2 orbit: is_stable(orbit_eigenvalues(params)).
+/// Linear stability of the period-2 orbit: the three roots of characteristic_cubic (the
+/// eigenvalues besides the neutral 1) have modulus < 1. Not is_stable(orbit_eigenvalues(params)):
+/// next to 90 degrees (and at 45) a second eigenvalue comes within 1e-8 of 1, and the Jacobian's
+/// eigensolver, which resolves such a pair only to about 4e-8, then misses the neutral one
+/// (89.999 degrees was called unstable); the cubic has 1 factored out and resolves it.
 bool is_stable(const OrbitParams& params);
 
 /// What `funnel orbit` reports for one parameter set.
 struct OrbitAnalysis {
   Eigen::Vector4cd eigenvalues;        ///< of dF/dP1 at the orbit, sorted as eigenvalues()
-  bool stable = false;                 ///< is_stable(eigenvalues)
+  bool stable = false;                 ///< is_stable(params)
   double jacobian_max_rel_diff = 0.0;  ///< max |printed - finite differences| / max |printed|, scaled form
 };
 

@@ -246,7 +246,7 @@ FigureData eigenvalue_figure(const FigureSpec& fig) {
   for (const Params& p : expand_grid(base, fig.grid)) {
     const orbit::OrbitParams op{p.theta, p.beta0, p.inertia, p.radius};
     const Eigen::Vector4cd ev = orbit::orbit_eigenvalues(op);
-    const bool stable = orbit::is_stable(ev);
+    const bool stable = orbit::is_stable(op);
     out.csv += csv_line({number(p.theta), number(std::abs(ev[0])), number(std::abs(ev[1])), number(std::abs(ev[2])),
                          number(std::abs(ev[3])), stable ? "1" : "0"});
     if (p.theta != 45.0) {
