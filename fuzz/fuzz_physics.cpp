@@ -306,6 +306,7 @@ void check_trajectory(const Params& p, const funnel::Funnel& fn, const State& re
   require(audit.edge_overlaps == 0, "a flight came closer than a to an edge point", audit.min_edge_distance);
   require(audit.face_crossings == 0, "a flight went behind a face", audit.max_face_depth);
   require(audit.exits_outside == 0, "an exit outside the gap");
+  require(audit.missed_exits == 0, "a flight left the funnel and went on");
   // The wear record sums to the totals.
   double wear_normal = 0.0, wear_collisions = 0.0;
   for (const funnel::WallWear& ww : wear.walls) {

@@ -19,6 +19,7 @@ void FlightAudit::merge(const FlightAudit& o) {
   edge_overlaps += o.edge_overlaps;
   face_crossings += o.face_crossings;
   exits_outside += o.exits_outside;
+  missed_exits += o.missed_exits;
   trajectories += o.trajectories;
   trajectories_overlapping += o.trajectories_overlapping;
   max_face_depth = std::max(max_face_depth, o.max_face_depth);
@@ -94,6 +95,18 @@ double face_depth(const Face& face, const State& s, double duration, double radi
   return depth;
 }
 
+/// Whether a flight that ends in `e` left the funnel before it (docs/model.md §2b): its centre
+/// fell through the exit level (the height is concave in time: lowest at an end), or crossed the
+/// vertical under a higher lower end, outward, below that end; a run must end there.
+bool left_funnel_before(const Funnel& f, const State& s, double duration, const Event& e, double tol) {
+  if (f.closed || e.kind == EventKind::Exit) return false;
+  const double slack = tol * f.radius;
+  if (advance(s, duration).r.y < f.y_exit - slack) return true;
+  if (f.side_exit == 0 || !(f.side_exit * s.v.x > 0.0)) return false;
+  const double t = (f.side_exit_end.x - s.r.x) / s.v.x;
+  return t > 0.0 && t < duration && advance(s, t).r.y < f.side_exit_end.y - slack;
+}
+
 }  // namespace
 
 double audit_size(const Funnel& f) {
@@ -126,6 +139,7 @@ FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vect
           if (depth > tol) ++audit.face_crossings;
         }
       }
+      if (left_funnel_before(f, s, duration, e, tol)) ++audit.missed_exits;
     }
     switch (e.kind) {
       case EventKind::ContactStart:

@@ -45,6 +45,7 @@ TEST(Corners, NoFreeFlightEntersAWallOrACornerOverWholeEnsembles) {
         EXPECT_EQ(total.edge_overlaps, 0) << theta << " " << e << " " << beta0;
         EXPECT_EQ(total.face_crossings, 0) << theta << " " << e << " " << beta0;
         EXPECT_EQ(total.exits_outside, 0) << theta << " " << e << " " << beta0;
+        EXPECT_EQ(total.missed_exits, 0) << theta << " " << e << " " << beta0;
         EXPECT_GE(total.min_edge_distance, 1.0 - audit_tolerance) << theta << " " << e << " " << beta0;
       }
     }

@@ -291,6 +291,7 @@ TEST(Profile, NoFreeFlightEntersAWallOverWholeEnsembles) {
       EXPECT_EQ(total.edge_overlaps, 0) << f.source << " e=" << e << " mu=" << mu;
       EXPECT_EQ(total.face_crossings, 0) << f.source << " e=" << e << " mu=" << mu << " depth " << total.max_face_depth;
       EXPECT_EQ(total.exits_outside, 0) << f.source << " e=" << e << " mu=" << mu;
+      EXPECT_EQ(total.missed_exits, 0) << f.source << " e=" << e << " mu=" << mu;
     }
   }
   EXPECT_GT(edge_contacts, 10);

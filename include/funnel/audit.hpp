@@ -16,6 +16,7 @@ struct FlightAudit {
   std::int64_t edge_overlaps = 0;       ///< flights whose centre came closer than a (1 - tol) to an edge point
   std::int64_t face_crossings = 0;      ///< flights whose centre went behind a centre line where the face is
   std::int64_t exits_outside = 0;       ///< exits with the centre not between the edge circles
+  std::int64_t missed_exits = 0;        ///< flights that left the funnel (through the exit level, or under a higher lower end) and went on
   std::int64_t trajectories = 0;        ///< trajectories audited
   std::int64_t trajectories_overlapping = 0;  ///< trajectories with at least one fault above
   double min_edge_distance = 0.0;       ///< smallest |centre - E| / a over every flight (1 = touching)
@@ -24,7 +25,7 @@ struct FlightAudit {
   /// Adds another audit (counts add, extremes combine).
   void merge(const FlightAudit& other);
   /// True when nothing overlapped.
-  bool clean() const { return edge_overlaps == 0 && face_crossings == 0 && exits_outside == 0; }
+  bool clean() const { return edge_overlaps == 0 && face_crossings == 0 && exits_outside == 0 && missed_exits == 0; }
 };
 
 /// Relative tolerance of the audit: a distance of a (1 - 1e-9) to an edge point is still a touch.
