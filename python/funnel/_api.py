@@ -679,8 +679,9 @@ def valid_range(name):
     """Text of a parameter's valid range, e.g. valid_range("theta") -> "0 < theta < 90 (degrees)"."""
     text = _core().valid_range(str(name))
     if not text:
-        raise ValueError(f"invalid name = {name!r}: not a model parameter; valid names are "
-                         f"{', '.join(p['key'] for p in PARAMETERS)}")
+        names = [p["key"] for p in PARAMETERS] + [k for k in MODEL_PARAMETERS_3D_ONLY
+                                                   if k not in {p["key"] for p in PARAMETERS}]
+        raise ValueError(f"invalid name = {name!r}: not a model parameter; valid names are {', '.join(names)}")
     return text
 
 

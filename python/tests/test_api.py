@@ -278,6 +278,12 @@ def test_defaults_and_metadata():
     assert funnel.simulate(release=0.3)["params"] == d
     assert funnel.valid_range("theta") == "0 < theta < 90 (degrees)"
     assert funnel.valid_range("t_max") == "t-max > 0 (finite)"
+    # Every name the refusal lists has a range, the 3D-only ones too.
+    with pytest.raises(ValueError) as refused:
+        funnel.valid_range("bogus")
+    listed = str(refused.value).split("valid names are ")[1].split(", ")
+    assert set(funnel.MODEL_PARAMETERS + funnel.MODEL_PARAMETERS_3D_ONLY) <= set(listed)
+    assert all(funnel.valid_range(n) for n in listed)
     assert funnel.version() == funnel.__version__
     assert isinstance(funnel.git_commit(), str) and funnel.git_commit()
 
