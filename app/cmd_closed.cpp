@@ -14,9 +14,9 @@ namespace funnel::cli {
 
 namespace {
 
-/// Model options whose default differs here: e = 1 as in the paper's Figs. 11-12 (with e < 1
-/// there is no periodic orbit) and caps suited to deciding periodic or rest.
-const std::pair<const char*, const char*> closed_defaults[] = {{"e", "1"}, {"t-max", "1e4"}, {"max-collisions", "1e7"}};
+/// Caps whose default differs here, suited to deciding periodic or rest (and e = 1, as in the
+/// paper's Figs. 11-12, set in run(): with e < 1 there is no periodic orbit).
+const std::pair<const char*, const char*> closed_caps[] = {{"t-max", "1e4"}, {"max-collisions", "1e7"}};
 
 struct ClosedCommand {
   ModelOptions model;
@@ -40,9 +40,11 @@ struct ClosedCommand {
       throw UsageError("invalid gap = '" + it->second + "': funnel closed needs gap = 0 (the default here)");
     }
     if (m.geometry.empty()) m.given["gap"] = "0";  // a geometry file's own walls must close (below)
-    // The defaults of this command (the paper's Figs. 11 and 12), where the user gave none.
-    for (const auto& [name, value] : closed_defaults) m.given.emplace(name, value);
-    const Params params = to_params(m);
+    // The defaults of this command (the paper's Figs. 11 and 12), where the user gave none; e as
+    // a value, not as given (a geometry whose walls all set their own e refuses a given e).
+    for (const auto& [name, value] : closed_caps) m.given.emplace(name, value);
+    Params params = to_params(m);
+    if (!m.given.contains("e")) params.e = 1.0;
     if (params.profile && !make_funnel(params).closed) {
       throw UsageError("invalid geometry = '" + model.geometry +
                        "': funnel closed needs a closed funnel (the two walls' lower ends at one point)");
@@ -140,7 +142,8 @@ void add_closed_command(CLI::App& app, const std::string& command_line) {
                   "consecutive collisions that must pass the periodic test; integer >= 1 (default 20)")->type_name("K");
   sub->add_option("--slip-tol", cmd->slip_tol, "periodic test: |slip before| <= tol * speed; > 0 (default 1e-6)")->type_name("TOL");
   sub->add_option("--height-tol", cmd->height_tol,
-                  "periodic test: |y_k - y_(k-1)| <= tol * |y_k|; > 0 (default 1e-6)")->type_name("TOL");
+                  "periodic test: |y_k - y_(k-1)| <= tol * |y_k| (y_(k-2) in a funnel that is not mirror symmetric); > 0 "
+                  "(default 1e-6)")->type_name("TOL");
   add_output_options(*sub, cmd->format, cmd->out);
   sub->callback([cmd] { cmd->run(); });
 }

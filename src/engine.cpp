@@ -576,6 +576,7 @@ std::int64_t from_lane(const Funnel& f, const batch::Lanes& l, int i, Run::Lane 
     OrbitWatch::Memory& m = w->memory();
     m.streak = static_cast<int>(l.streak[i]);
     m.have_last = l.have_last[i] != 0.0;
+    m.have_prev = collisions >= 2;  // the watch sees every collision (not carried in the lanes)
     m.last_wall = l.last_wall[i] == 0.0 ? Wall::Left : Wall::Right;
     m.last = {l.last_x[i], l.last_y[i]};
     m.prev = {l.prev_x[i], l.prev_y[i]};
@@ -589,7 +590,8 @@ std::int64_t run_many(const Params& params, const Funnel& f, std::span<const Sta
   const int width = simd_lanes() <= 1 ? 1 : batch::width();
   auto watch_of = [&](std::size_t k) { return watches.empty() ? nullptr : &watches[k]; };
   const auto cancelled = [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
-  // (The lanes run the paper's test of the orbit watch, not the two_back one.)
+  // (The lanes run the paper's test of the orbit watch, not the two_back one; every watch of a
+  // call has the same test, run_closed's.)
   const bool two_back = !watches.empty() && watches[0].test().two_back;
   if (width <= 1 || !batchable(f) || initial.size() < 2 || two_back) {
     for (std::size_t k = 0; k < initial.size() && !cancelled(); ++k) out[k] = simulate(params, f, initial[k], watch_of(k));

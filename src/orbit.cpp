@@ -267,6 +267,9 @@ bool is_stable(const Eigen::Vector4cd& eigenvalues, double unit_tol) {
 }
 
 bool is_stable(const OrbitParams& params) {
+  // |beta0| = 1: no energy is lost (the cubic's constant term is -beta0^2 = -1, so the three roots'
+  // moduli multiply to 1): marginal at best, and rounding would decide "< 1".
+  if (std::fabs(params.beta0) == 1.0) return false;
   const auto roots = cubic_eigenvalues(params);
   return std::all_of(roots.begin(), roots.end(), [](std::complex<double> r) { return std::abs(r) < 1.0; });
 }

@@ -416,6 +416,14 @@ TEST_F(Cli, AMaterialParameterThatEveryWallSetsIsRefusedWithItsFile) {
   // A V keeps every value.
   ASSERT_EQ(run("trajectory --release 0.3 --out " + path("v.json")).code, 0);
   EXPECT_EQ(json::parse(read("v.json"))["params"]["theta"], 60.0);
+  // funnel closed's own default e = 1 is not a given e: a closed wedge whose walls set their own
+  // e runs (it was refused, "invalid e = 1", with no --e given), and reports no e.
+  write("wedge.toml", "mirror = true\n[left]\nvertices = [[-1.0, 1.2], [0.0, 0.0]]\ne = 1\nmu = 0.5\n");
+  const Result wedge = run("closed --samples 4 --threads 1 --geometry " + path("wedge.toml") + " --out " + path("w.json"));
+  ASSERT_EQ(wedge.code, 0) << wedge.output;
+  const json closed = json::parse(read("w.json"));
+  EXPECT_TRUE(closed["params"]["e"].is_null()) << closed["params"].dump();
+  EXPECT_EQ(closed["periodic_fraction"], 1.0);
 }
 
 TEST_F(Cli, ASweepOfAGeometryFileResumesOnlyTheSameWalls) {

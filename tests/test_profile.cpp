@@ -274,6 +274,20 @@ TEST(Profile, NoFreeFlightEntersAWallOverWholeEnsembles) {
   lip.sides[0] = {{-2.5, 2.0}, {-0.6, 0.3}, {-0.6, -0.2}, {-0.1, -0.382}};
   lip.sides[1] = {{4.0, 0.8}, {0.3, 0.0}};
   cases.push_back(with_profile(lip));
+  // The same ends with one straight segment a wall (a funnel of one face a wall, which skipped
+  // the sideways exit: the ball met the right end's edge from below).
+  ProfileSpec straight;
+  straight.sides[0] = {{-2.5, 2.0}, {-0.1, -0.382}};
+  straight.sides[1] = {{4.0, 0.8}, {0.3, 0.0}};
+  cases.push_back(with_profile(straight));
+  // The lower wall reaching to within a of the vertical under the higher end.
+  ProfileSpec under;
+  under.sides[0] = {{-2.0, 2.0}, {0.0, 0.0}, {0.295, -0.5}};
+  under.sides[1] = {{2.5, 2.0}, {0.3, 0.0}};
+  cases.push_back(with_profile(under));
+  // A silo: vertical walls over a hopper, concave corners (a particle that had left the funnel
+  // met the vertical faces' lines below the outlet).
+  cases.push_back(with_profile(mirrored_profile({{-1.0, 3.0}, {-1.0, 1.0}, {-0.1, -0.5}})));
   std::int64_t edge_contacts = 0;
   for (Params base : cases) {
     for (const auto& [e, mu] : {std::pair{0.1, 1.0}, std::pair{0.6, 1.0}, std::pair{1.0, 0.0}, std::pair{0.95, 0.0}}) {
@@ -343,6 +357,23 @@ TEST(Profile, ABallThatPassesUnderTheHigherEndSidewaysExitsThere) {
     }
   }
   EXPECT_GT(sideways, 3);
+  // The vertical lies a beyond every point of the lower wall (here its end, 0.295, reaches to
+  // within a of the higher end's x, 0.3): no contact with the lower wall can be beyond it. And
+  // the mirror image puts it on the left.
+  ProfileSpec under;
+  under.sides[0] = {{-2.0, 2.0}, {0.0, 0.0}, {0.295, -0.5}};
+  under.sides[1] = {{2.5, 2.0}, {0.3, 0.0}};
+  for (const ProfileSpec& spec : {lip, under, mirror_image(under)}) {
+    const Funnel g = make_funnel(with_profile(spec));
+    const int low = g.side_exit > 0 ? 0 : 1;  // the lower wall's side
+    for (const Vec2 v : spec.sides[static_cast<std::size_t>(low)]) {
+      EXPECT_LE(g.side_exit * (v.x - g.side_exit_end.x) + p.radius, 0.0) << v.x;
+    }
+    const Vec2 high = spec.sides[static_cast<std::size_t>(1 - low)].back();
+    EXPECT_EQ(g.side_exit_end.y, high.y);
+    EXPECT_GE(g.side_exit * (g.side_exit_end.x - high.x), 0.0);
+  }
+  EXPECT_EQ(make_funnel(with_profile(under)).side_exit_end.x, 0.295 + p.radius);
 }
 
 TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {

@@ -26,7 +26,7 @@ struct ClosedOptions {
   std::int64_t max_collisions = 10'000'000; ///< collision cap per release
   int window = 20;            ///< consecutive collisions that must pass the periodic test
   double slip_tol = 1e-6;     ///< |slip before| <= slip_tol * |velocity before|
-  double height_tol = 1e-6;   ///< |y_k - y_(k-1)| <= height_tol * |y_k|
+  double height_tol = 1e-6;   ///< |y_k - y_(k-1)| <= height_tol * |y_k| (y_(k-2) if not mirror symmetric: OrbitTest)
 };
 
 /// Outcome for one release position.

@@ -114,7 +114,8 @@ bool is_stable(const Eigen::Vector4cd& eigenvalues, double unit_tol = unit_eigen
 /// eigenvalues besides the neutral 1) have modulus < 1. Not is_stable(orbit_eigenvalues(params)):
 /// next to 90 degrees (and at 45) a second eigenvalue comes within 1e-8 of 1, and the Jacobian's
 /// eigensolver, which resolves such a pair only to about 4e-8, then misses the neutral one
-/// (89.999 degrees was called unstable); the cubic has 1 factored out and resolves it.
+/// (89.999 degrees was called unstable); the cubic has 1 factored out and resolves it. False for
+/// |beta0| = 1, where the roots' moduli multiply to 1 (no loss: marginal at best).
 bool is_stable(const OrbitParams& params);
 
 /// What `funnel orbit` reports for one parameter set.

@@ -29,7 +29,7 @@ class OrbitWatch final : public EventSink {
   struct Memory {
     int streak = 0;          ///< consecutive collisions that passed the test
     bool have_last = false;  ///< a collision has been seen
-    bool have_prev = false;  ///< two have (read only by the two_back test, which the lanes do not run)
+    bool have_prev = false;  ///< two have (read only by the two_back test, which the lanes do not run; set on leaving them)
     Wall last_wall = Wall::Left;
     Vec2 last, prev;         ///< positions of the last two collisions
   };

@@ -734,14 +734,16 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
     """Long-time state of every release in a closed funnel (gap 0), like ``funnel closed``.
 
     As there, e defaults to 1 (the paper's Figs. 11 and 12: with e < 1 there is no periodic
-    orbit, and each release ends at rest or is undecided), and the caps are max_time (default 1e4) and max_coll (default 10^7), which the
-    model's names t_max and max_collisions also set (giving both names of one cap is an error).
+    orbit, and each release ends at rest or is undecided), and the caps are max_time (default
+    1e4) and max_coll (default 10^7), which the model's names t_max and max_collisions also set
+    (giving both names of one cap is an error).
     seed, release and release_sd are those of :func:`ensemble` (the random and gaussian
     releases); geometry (as for :func:`simulate`) must close: both walls end at one point.
     Ctrl-C stops the run within a task of releases and raises KeyboardInterrupt.
 
     A release is ``periodic`` once ``window`` consecutive collisions alternate walls, have
-    |slip| <= slip_tol * speed and repeat the previous height within height_tol (relative);
+    |slip| <= slip_tol * speed and repeat the previous height within height_tol (relative; in a
+    funnel that is not mirror symmetric, the height two collisions before, on the same wall);
     ``rest`` when it lost all its energy; ``undecided`` if max_time or max_coll came first.
 
     Returns
@@ -759,7 +761,7 @@ def closed(samples=DEFAULT_SAMPLES, release_dist="line", threads=0, max_time=Non
     >>> c = funnel.closed(theta=50, e=1, mu=0.1, samples=400)
     >>> c["periodic_fraction"]
     """
-    model = {"e": 1.0, **model}
+    model = dict(model)  # (e defaults to 1 in the library's closed(), where not given)
     caps = {}
     for name, alias, value, default in (("max_time", "t_max", max_time, 1e4),
                                         ("max_coll", "max_collisions", max_coll, 10_000_000)):

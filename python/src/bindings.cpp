@@ -67,10 +67,17 @@ py::value_error geometry_error(const std::string& key, const py::handle& value, 
 
 /// A number of a geometry dict; ValueError naming the key otherwise.
 double geometry_number(const py::handle& h, const std::string& key) {
-  // Any real number: Python's, or numpy's scalars (np.float32(0.1), np.int64(1)), not a bool.
+  // Any real number: Python's, or numpy's scalars (np.float32(0.1), np.int64(1)) and 0-d arrays
+  // of reals (np.array(0.3), as the model's parameters take them), not a bool.
   static const py::handle numbers_real = py::object(py::module_::import("numbers").attr("Real")).release();
-  if (is_bool(h) || !py::isinstance(h, numbers_real)) throw geometry_error(key, h, "a number");
-  return py::float_(py::reinterpret_borrow<py::object>(h)).cast<double>();
+  static const py::handle ndarray = py::object(py::module_::import("numpy").attr("ndarray")).release();
+  py::object v = py::reinterpret_borrow<py::object>(h);
+  if (py::isinstance(v, ndarray) && v.attr("ndim").cast<int>() == 0 &&
+      std::string_view("iuf").find(py::str(v.attr("dtype").attr("kind")).cast<std::string>()) != std::string_view::npos) {
+    v = v.attr("item")();
+  }
+  if (is_bool(v) || !py::isinstance(v, numbers_real)) throw geometry_error(key, h, "a number");
+  return py::float_(v).cast<double>();
 }
 
 /// The vertices [[x, y], ...] of one side of a geometry dict.
@@ -590,6 +597,9 @@ py::dict closed(const std::map<std::string, double>& model, std::int64_t samples
   }
   if (geometry.is_none()) m["gap"] = 0.0;  // a geometry's own walls must close (below)
   Params params = make_params(m, geometry);
+  // e = 1 where not given, as in the paper's Figs. 11 and 12 (a default, so not refused with a
+  // geometry whose walls all set their own e: it then changes nothing).
+  if (!m.contains("e")) params.e = 1.0;
   if (params.profile && !funnel::make_funnel(params).closed) {
     throw py::value_error("invalid geometry: closed() needs a closed funnel (the two walls' lower ends at one point)");
   }

@@ -246,12 +246,28 @@ def test_yes_no_options_take_only_true_or_false():
     assert funnel.closed(samples=8, release_dist=None)["state_counts"]  # None is the default line, as elsewhere
 
 
+def test_closed_takes_a_wedge_whose_walls_set_their_own_e():
+    # closed()'s default e = 1 is not a given e (it was refused: "invalid e = 1").
+    wedge = {"left": {"vertices": [[-1.0, 1.2], [0.0, 0.0]], "e": 1.0, "mu": 0.5}, "mirror": True}
+    r = funnel.closed(samples=4, threads=1, geometry=wedge)
+    assert r["periodic_fraction"] == 1.0 and r["params"]["e"] is None
+    with pytest.raises(ValueError, match=r"^invalid e = 0.5: valid range is not with a geometry"):
+        funnel.closed(samples=4, e=0.5, geometry=wedge)
+    assert funnel.closed(samples=4, theta=60, mu=1)["params"]["e"] == 1.0  # the V: e = 1 by default
+
+
 def test_a_geometry_dict_takes_numpy_numbers():
     # np.float32(0.1) or np.int64(1) were "not a number".
     walls = {"left": {"vertices": [[np.int64(-1), 1.0], [-0.1, np.float32(0.0)]], "mu": np.float32(0.5)},
              "mirror": True}
     plain = {"left": {"vertices": [[-1, 1.0], [-0.1, 0.0]], "mu": float(np.float32(0.5))}, "mirror": True}
     assert funnel.simulate(0.3, geometry=walls)["duration"] == funnel.simulate(0.3, geometry=plain)["duration"]
+    # and 0-d arrays of reals, as the model's parameters take them (numpy's arrays of vertices too)
+    zero_d = {"left": {"vertices": np.array([[-1, 1.0], [-0.1, 0.0]]), "mu": np.array(np.float32(0.5))},
+              "mirror": True, "bottom": np.array(0.0)}
+    assert funnel.simulate(0.3, geometry=zero_d)["duration"] == funnel.simulate(0.3, geometry=plain)["duration"]
+    with pytest.raises(ValueError, match=r"^invalid geometry left.mu = array\(True\): valid range is a number$"):
+        funnel.simulate(0.3, geometry={"left": {"vertices": [[-1, 1], [-0.1, 0]], "mu": np.array(True)}, "mirror": True})
     with pytest.raises(ValueError, match=r"^invalid geometry left.vertices\[1\] = True: valid range is a number$"):
         funnel.simulate(0.3, geometry={"left": {"vertices": [[-1, 1], [-0.1, True]]}, "mirror": True})
     # Each names the key, the value and what is valid (they named the key only).
