@@ -114,9 +114,8 @@ void add_orbit_command(CLI::App& app, const std::string& command_line) {
     if (p.option && !orbit_parameter(p.name)) sub->get_option("--" + std::string(p.name))->group("");
   }
   // Its theta range is its own (validate_orbit): below 1e-3 degrees the eigenvalues are not resolved.
-  sub->get_option("--theta")->description(
-      "wall angle to the horizontal [degrees]; 1e-3 <= theta < 90 (degrees) for the orbit (default 60); a list a,b,c or "
-      "a range start:stop:step sweeps it");
+  sub->get_option("--theta")->description("wall angle to the horizontal [degrees]; " + std::string(orbit_theta_range) +
+                                          " (default 60); a list a,b,c or a range start:stop:step sweeps it");
   sub->add_option("--y-star", cmd->y_star,
                   "orbit height y* for the Jacobians (the eigenvalues do not depend on it); > 0 (default 0.5)")
       ->type_name("Y");

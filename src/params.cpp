@@ -372,8 +372,8 @@ std::optional<ParamError> validate_orbit(const Params& params) {
   // orbit came out "stable" and at 1e-200 every eigenvalue 0 (found by an audit).
   if (!(params.theta >= 1e-3 && params.theta < 90.0)) {
     return ParamError{"theta", format_number(params.theta),
-                      "1e-3 <= theta < 90 (degrees) for the orbit: below it its eigenvalues 1 +- O(theta) are "
-                      "not resolved in double precision"};
+                      std::string(orbit_theta_range) +
+                          ": below it its eigenvalues 1 +- O(theta) are not resolved in double precision"};
   }
   if (!(params.beta0 >= -1.0 && params.beta0 <= 1.0)) return error("beta0", params.beta0);
   if (!(params.inertia > 0.0 && std::isfinite(params.inertia))) return error("inertia", params.inertia);

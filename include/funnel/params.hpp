@@ -165,6 +165,9 @@ double reported_value(const ParameterInfo& info, const Params& p);
 /// Checks every field (NaN and infinities included); the first invalid one, if any.
 std::optional<ParamError> validate(const Params& params);
 
+/// The range of theta for the period-2 orbit's eigenvalues (validate_orbit), narrower than the model's.
+inline constexpr std::string_view orbit_theta_range = "1e-3 <= theta < 90 (degrees) for the orbit";
+
 /// The checks of the parameters the period-2 orbit theory reads (theta, beta0, inertia, radius;
 /// funnel orbit): each in its own range, independent of the funnel's gap and release line.
 std::optional<ParamError> validate_orbit(const Params& params);
