@@ -280,7 +280,16 @@ class Run {
         if (!(edge_normal_force(state_, c.point, radius_) > 0.0)) {
           FlightStart start;
           start.skip_face = part;
-          start.skip_edge = end_corner;
+          if (high) {
+            // Up over the corner: the flight rises and falls back, and only the edge stands
+            // between it and the wall below the corner (it stays behind the face's line): the
+            // edge is searched, from exactly on its circle with no normal speed (an audit's
+            // ball slid up a steep face, flew and fell back through it).
+            start.on_edge = end_corner;
+            start.slow_edge = end_corner;
+          } else {
+            start.skip_edge = end_corner;
+          }
           return start;
         }
         part = end_corner;

@@ -15,15 +15,20 @@ namespace {
 const Face& face_of(const Funnel& f, WallPart p) { return f.sides[p.wall == Wall::Left ? 0 : 1].faces[p.index]; }
 const Side& side_of(const Funnel& f, Wall w) { return f.sides[w == Wall::Left ? 0 : 1]; }
 
-/// The foot of r lies on the face's region (checked only at convex ends: at a concave end or a
-/// closed funnel's bottom the neighbouring face bounds it). Measured along the face, not by
-/// height: for nearly flat walls C* is within rounding of the vertex's height, and a height
-/// test took contacts over the gap for face contacts and let the particle fall through the
-/// faces (found by fuzz/fuzz_physics).
-bool on_region(const Face& face, Vec2 r) {
-  if (!face.low_convex && !face.high_convex) return true;
+/// How far beyond a concave end a face's hit still counts (on_region): rounding, far below a.
+double concave_slack(const Funnel& f) { return 1e-9 * f.radius; }
+
+/// The foot of r lies on the face's region. Measured along the face, not by height: for nearly
+/// flat walls C* is within rounding of the vertex's height, and a height test took contacts over
+/// the gap for face contacts and let the particle fall through the faces (found by
+/// fuzz/fuzz_physics). At a concave end (where two faces' centre lines meet, or a closed
+/// funnel's bottom) within `slack` beyond it: the neighbouring face bounds the region there, and
+/// a flight into the corner meets both lines at once. Beyond it the line is no face: where the
+/// neighbour ends at a convex corner, the line continued past the meeting point runs into the
+/// funnel again (an audit's spout under a shoulder: a ball collided with it in mid-air).
+bool on_region(const Face& face, Vec2 r, double slack) {
   const double s = along_face(face, r);
-  return (!face.low_convex || s >= 0.0) && (!face.high_convex || s <= face.length);
+  return s >= (face.low_convex ? 0.0 : -slack) && s <= (face.high_convex ? face.length : face.length + slack);
 }
 
 /// When the centre reaches a face's centre line, before the check that it does so on the
@@ -37,7 +42,7 @@ double line_time(const Funnel& f, const State& s, WallPart part, const FlightSta
   // On the face's region a centre behind the centre line would be inside the wall: a negative
   // distance there is rounding, and the contact is now. Without this a release within ~1e-16
   // of the wall (|x0/L| = 1 - 2^-53) fell through it (found by fuzz/fuzz_physics).
-  if (delta0 < 0.0 && on_region(face, s.r)) delta0 = 0.0;
+  if (delta0 < 0.0 && on_region(face, s.r, concave_slack(f))) delta0 = 0.0;
   // The distance is delta0 + p t - n_y t^2/2 (gravity's component along the normal is -n_y). A
   // vertical face (n_y = 0) is reached only by moving towards it.
   return face.n.y > 0.0 ? line_arrival_time(delta0, p, face.n.y)
@@ -47,8 +52,8 @@ double line_time(const Funnel& f, const State& s, WallPart part, const FlightSta
 
 /// The line is reached at time t (not never) on the face's region.
 bool reached_on_region(const Funnel& f, const State& s, WallPart part, double t) {
-  const Face& face = face_of(f, part);
-  return (!face.low_convex && !face.high_convex) || on_region(face, advance(s, t).r);
+  // A closed V's faces end at the vertex, where the other face bounds them: nothing to check.
+  return (f.closed && f.one_face) || on_region(face_of(f, part), advance(s, t).r, concave_slack(f));
 }
 
 }  // namespace
@@ -244,9 +249,11 @@ template <bool OneFace>
   // Below a concave lower end the region is not checked (in the funnel the face below is met
   // first), so there the landing itself must be above them: a particle that has left the
   // funnel could reach that face's line far below its region (an audit's silo, whose releases
-  // collided at y = -1.8 under the outlet at y = -0.5).
-  if (ev.dt != never && (f.closed || (s.r.y > f.skip_height && hit_face->low.y >= f.skip_height &&
-                                      (hit_face->low_convex || advance(s, ev.dt).r.y > f.skip_height)))) {
+  // collided at y = -1.8 under the outlet at y = -0.5). A closed V has no edge (nor exit) at
+  // all; a closed profile's convex corners are edges as anywhere.
+  if (ev.dt != never && ((f.closed && f.one_face) ||
+                         (s.r.y > f.skip_height && hit_face->low.y >= f.skip_height &&
+                          (hit_face->low_convex || advance(s, ev.dt).r.y > f.skip_height)))) {
     return ev;
   }
   const double t_exit = exit_time(f, s);

@@ -125,11 +125,10 @@ void finish(Funnel& f, const Params& params) {
   f.one_face = f.sides[0].faces.size() == 1 && f.sides[1].faces.size() == 1;
   f.y_exit = std::min(el.y, er.y);
   if (!f.closed && el.y != er.y) {
-    // The vertical under the higher end, or a beyond the lower wall's end if that reaches
-    // farther out under it (the lower wall's rightmost point, on the left, is its end): no
-    // contact with the lower wall lies beyond it.
+    // The vertical under the higher end: the lower wall's end lies at least a inside it
+    // (validate_profile), so no contact with the lower wall reaches it.
     f.side_exit = el.y > er.y ? -1 : 1;
-    f.side_exit_end = el.y > er.y ? Vec2{std::min(el.x, er.x - f.radius), el.y} : Vec2{std::max(er.x, el.x + f.radius), er.y};
+    f.side_exit_end = el.y > er.y ? el : er;
   }
 }
 

@@ -1,15 +1,58 @@
 // Checks of a user's wall profile (docs/model.md §2b): every rule the engine relies on, with an
 // error that names the side, the vertex or segment, its value and the rule.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "funnel/funnel.hpp"
 
 namespace funnel {
 
 namespace {
+
+/// Distance from p to the segment [a, b].
+double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 d = b - a;
+  const double len2 = dot(d, d);
+  const double t = len2 > 0.0 ? std::clamp(dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+  const Vec2 q = p - (a + t * d);
+  return std::hypot(q.x, q.y);
+}
+
+/// The smallest distance between the two walls, each with its top segment continued upward
+/// (docs/model.md §2b) as far as `reach` above the highest vertex; that between two polylines
+/// that do not cross is at a vertex of one of them. Also the vertex and the wall it is near.
+struct Closest {
+  double distance;
+  int side;   ///< the side of the vertex
+  Vec2 vertex;
+};
+Closest closest_walls(const ProfileSpec& spec, double reach) {
+  std::array<std::vector<Vec2>, 2> walls = spec.sides;
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& w : walls) {
+    for (const Vec2 v : w) top = std::max(top, v.y);
+  }
+  for (auto& w : walls) {  // the top segment continued to top + reach
+    const Vec2 d = w[0] - w[1];
+    if (d.y > 0.0) w.insert(w.begin(), w[0] + ((top + reach - w[0].y) / d.y) * d);
+  }
+  Closest best{std::numeric_limits<double>::infinity(), 0, {}};
+  for (int i = 0; i < 2; ++i) {
+    const auto& other = walls[static_cast<std::size_t>(1 - i)];
+    for (const Vec2 v : walls[static_cast<std::size_t>(i)]) {
+      for (std::size_t k = 0; k + 1 < other.size(); ++k) {
+        const double dist = segment_distance(v, other[k], other[k + 1]);
+        if (dist < best.distance) best = {dist, i, v};
+      }
+    }
+  }
+  return best;
+}
 
 const char* side_name(int i) { return i == 0 ? "left" : "right"; }
 
@@ -111,6 +154,29 @@ std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params
                            "the left lower end left of the right one, the walls' lower ends (or closed: equal) farther "
                            "apart than 2*radius = " + format_number(2.0 * a) + " and the walls wider than that at "
                            "the higher end's level");
+    }
+    // The ball's passage: nowhere may the walls come within 2a of each other (where a wall
+    // slants, the horizontal width above is not the distance), so that a ball touching one wall
+    // clears the other, whose contacts never look at it (an audit's narrow throat: a ball sliding
+    // down one wall passed 0.79 a from the other's end).
+    const Closest c = closest_walls(spec, 2.0 * a);
+    if (!(c.distance > 2.0 * a)) {
+      return profile_error("passage", format_number(c.distance),
+                           "the walls farther apart than 2*radius = " + format_number(2.0 * a) + " everywhere (the " +
+                               side_name(c.side) + " vertex " + point_text(c.vertex) + " is that near the " +
+                               side_name(1 - c.side) + " wall)");
+    }
+    // A particle that passes under the higher of two unequal lower ends has left (§2b): the
+    // lower wall must not reach under it, where a ball touching that wall would be beyond the
+    // vertical through the higher end (an audit's ledge over a lower end 0.001 beside it).
+    // (Either way round, the lower end is er.x - el.x inside the vertical through the higher.)
+    if (el.y != er.y) {
+      if (!(er.x - el.x >= a)) {
+        return profile_error("outlet", point_text(el) + " to " + point_text(er),
+                             std::string("the lower end at least radius = ") + format_number(a) +
+                                 " inside the vertical through the higher end (horizontally), so that the lower wall "
+                                 "does not reach under the higher one");
+      }
     }
   }
   if (spec.bottom && !(std::fabs(*spec.bottom) <= max_coordinate)) {

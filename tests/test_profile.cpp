@@ -280,11 +280,14 @@ TEST(Profile, NoFreeFlightEntersAWallOverWholeEnsembles) {
   straight.sides[0] = {{-2.5, 2.0}, {-0.1, -0.382}};
   straight.sides[1] = {{4.0, 0.8}, {0.3, 0.0}};
   cases.push_back(with_profile(straight));
-  // The lower wall reaching to within a of the vertical under the higher end.
-  ProfileSpec under;
-  under.sides[0] = {{-2.0, 2.0}, {0.0, 0.0}, {0.295, -0.5}};
-  under.sides[1] = {{2.5, 2.0}, {0.3, 0.0}};
-  cases.push_back(with_profile(under));
+  // A spout under a shoulder, the spout's faces' lines continued past their concave upper ends
+  // meet inside the funnel (a ball collided there in mid-air: an audit's finding).
+  cases.push_back(with_profile(mirrored_profile({{-1.0, 1.2}, {-0.6, 0.5}, {-0.2, 0.35}, {-0.2, -0.5}})));
+  // A steep lower section under a shallow one: a ball that slides up the steep face flies over
+  // the corner and falls back, onto the corner's edge (it fell through the face).
+  cases.push_back(with_profile(mirrored_profile({{-1.0, 1.5}, {-0.3, 1.0}, {-0.2, -0.5}})));
+  // A closed funnel with convex corners: they are edges there too (they were not searched).
+  cases.push_back(with_profile(mirrored_profile({{-2.0, 1.6}, {-0.5, 0.734}, {0.0, -0.3}})));
   // A silo: vertical walls over a hopper, concave corners (a particle that had left the funnel
   // met the vertical faces' lines below the outlet).
   cases.push_back(with_profile(mirrored_profile({{-1.0, 3.0}, {-1.0, 1.0}, {-0.1, -0.5}})));
@@ -357,23 +360,63 @@ TEST(Profile, ABallThatPassesUnderTheHigherEndSidewaysExitsThere) {
     }
   }
   EXPECT_GT(sideways, 3);
-  // The vertical lies a beyond every point of the lower wall (here its end, 0.295, reaches to
-  // within a of the higher end's x, 0.3): no contact with the lower wall can be beyond it. And
-  // the mirror image puts it on the left.
-  ProfileSpec under;
-  under.sides[0] = {{-2.0, 2.0}, {0.0, 0.0}, {0.295, -0.5}};
-  under.sides[1] = {{2.5, 2.0}, {0.3, 0.0}};
-  for (const ProfileSpec& spec : {lip, under, mirror_image(under)}) {
-    const Funnel g = make_funnel(with_profile(spec));
-    const int low = g.side_exit > 0 ? 0 : 1;  // the lower wall's side
-    for (const Vec2 v : spec.sides[static_cast<std::size_t>(low)]) {
-      EXPECT_LE(g.side_exit * (v.x - g.side_exit_end.x) + p.radius, 0.0) << v.x;
-    }
-    const Vec2 high = spec.sides[static_cast<std::size_t>(1 - low)].back();
-    EXPECT_EQ(g.side_exit_end.y, high.y);
-    EXPECT_GE(g.side_exit * (g.side_exit_end.x - high.x), 0.0);
+  // The mirror image exits on the left, under its own higher end.
+  p.e = 1.0;
+  const Params q = with_profile(mirror_image(lip), p);
+  const Funnel m = make_funnel(q);
+  EXPECT_EQ(m.side_exit, -1);
+  EXPECT_EQ(m.side_exit_end.x, -0.3);
+  EXPECT_EQ(simulate_release(q, m, -0.16).exit_state.r.x, -0.3);
+}
+
+TEST(Profile, TheLeakHuntsProfilesKeepEveryFlightOutOfTheWalls) {
+  // Three leaks an independent random-profile audit found (2026-11-28), each at its own input.
+  auto run = [](const ProfileSpec& spec, Params p, double x, EventLog& log) {
+    p.profile = std::make_shared<const ProfileSpec>(spec);
+    const Funnel f = make_funnel(p);
+    const Trajectory t = simulate_release(p, f, x, &log);
+    const FlightAudit audit = audit_flights(f, release_state(p, f, x), log.events);
+    EXPECT_TRUE(audit.clean()) << audit.face_crossings << " " << audit.edge_overlaps << " " << audit.missed_exits;
+    return t;
+  };
+  Params p = default_params();
+  p.radius = 0.05;
+  {  // A spout under a shoulder: the spout faces' lines continued past their concave upper ends
+     // met in mid-air, and the ball bounced there 1.5 million times. It falls straight out.
+    p.e = 0.5;
+    p.mu = 0.5;
+    EventLog log;
+    const Trajectory t = run(mirrored_profile({{-1.0, 1.2}, {-0.6, 0.5}, {-0.2, 0.35}, {-0.2, -0.5}}), p, -0.3, log);
+    EXPECT_EQ(t.status, Status::Exited);
+    EXPECT_EQ(t.collisions, 0);
   }
-  EXPECT_EQ(make_funnel(with_profile(under)).side_exit_end.x, 0.295 + p.radius);
+  {  // Up a steep face and over a convex corner: the ball flies, falls back onto the corner's
+     // edge (it fell through the face and exited behind the wall, at x = 0.29).
+    p.e = 0.0;
+    p.mu = 0.0;
+    p.release_u = 1.0;
+    p.release_v = 1.0;
+    EventLog log;
+    const Trajectory t = run(mirrored_profile({{-1.0, 1.5}, {-0.3, 1.0}, {-0.2, -0.5}}), p, 0.0, log);
+    ASSERT_EQ(t.status, Status::Exited);
+    EXPECT_LT(std::fabs(t.exit_state.r.x), 0.2 - p.radius);
+    ASSERT_GE(log.events.size(), 4u);
+    EXPECT_EQ(log.events[2].kind, EventKind::ContactEnd);
+    EXPECT_EQ(log.events[3].kind, EventKind::Edge);  // back onto the corner it flew over
+  }
+  {  // A closed funnel's convex corner is an edge: the first flight meets it (it passed through
+     // the wall, and its first collision was 10 H below the funnel).
+    p.e = 0.99;
+    p.mu = 1.0;
+    p.release_u = 1.0;
+    p.release_v = 0.5;
+    p.max_collisions = 1;
+    EventLog log;
+    run(mirrored_profile({{-2.0, 1.6}, {-0.5, 0.734}, {0.0, -0.3}}), p, -0.8, log);
+    ASSERT_FALSE(log.events.empty());
+    EXPECT_EQ(log.events[0].kind, EventKind::Edge);
+    EXPECT_NEAR(std::hypot(log.events[0].position.x - 0.5, log.events[0].position.y - 0.734), p.radius, 1e-12);
+  }
 }
 
 TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {
@@ -438,6 +481,30 @@ TEST(Profile, BadProfilesAreRejectedNamingTheSideAndTheRule) {
       EXPECT_EQ(said, "accepted");
     }
   }
+  // The lower wall reaching under the higher end (its end 0.005 inside the vertical, a = 0.01):
+  // a ball touching it would be beyond that vertical, where it has left. 0.01 inside, it may.
+  for (const double end_x : {0.295, 0.29}) {
+    ProfileSpec under;
+    under.sides[0] = {{-2.0, 2.0}, {0.0, 0.0}, {end_x, -0.5}};
+    under.sides[1] = {{2.5, 2.0}, {0.3, 0.0}};
+    const std::string said = error_of(under);
+    if (end_x > 0.29) {
+      EXPECT_NE(said.find("inside the vertical through the higher end"), std::string::npos) << said;
+    } else {
+      EXPECT_EQ(said, "accepted");
+    }
+  }
+  // A throat narrower than the sphere where a wall slants: 2.285 a wide horizontally at the
+  // higher end, but its end is 1.79 a from the other wall (a = 0.141).
+  Params big = base;
+  big.radius = 0.141;
+  ProfileSpec throat;
+  throat.sides[0] = {{-0.9, 1.83}, {-0.015, 0.156}, {-0.015, -0.34}};
+  throat.sides[1] = {{1.8, 2.07}, {0.184, 0.854}, {0.172, 0.341}};
+  const auto err = validate(with_profile(throat, big));
+  ASSERT_TRUE(err);
+  EXPECT_EQ(err->message().rfind("invalid geometry passage = 0.2517", 0), 0u) << err->message();
+  EXPECT_NE(err->message().find("the right vertex (0.172, 0.341) is that near the left wall"), std::string::npos);
   ProfileSpec collinear = hopper();
   collinear.sides[0] = {{-2.0, 2.0}, {-1.0, 1.0}, {-0.1, 0.1}};
   EXPECT_NE(error_of(collinear).find("collinear"), std::string::npos) << error_of(collinear);

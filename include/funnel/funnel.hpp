@@ -69,10 +69,8 @@ struct Funnel {
   bool one_face = false;        ///< each wall is one straight face over its lower end (a V without a spout)
   double y_exit = 0.0;          ///< exit level: the lower of the two lower ends (crossed downward = exited)
   /// Lower ends at unequal heights: the side of the higher one (-1 left, +1 right; 0 for equal
-  /// ends or a closed funnel). A centre that crosses the vertical x = side_exit_end.x outward,
-  /// below side_exit_end.y (the higher end's height), has passed under the higher end sideways:
-  /// it has exited there. That x is the higher end's, or a beyond the lower wall's end if the
-  /// lower wall reaches farther out under it. Units of H.
+  /// ends or a closed funnel) and that end (units of H). A centre that crosses the vertical
+  /// through it outward, below it, has passed under the higher end sideways: it has exited there.
   int side_exit = 0;
   Vec2 side_exit_end{};
   double y_bottom = 0.0;        ///< the funnel bottom: release-height is measured from it
