@@ -57,6 +57,9 @@ namespace {
 /// stopped as trapped: a guard that no physical contact reaches (each hand-over back up needs
 /// friction to reverse the motion, which dissipates energy).
 constexpr int max_hand_overs = 1000;
+/// Nested hand-overs between two faces at a concave corner before the particle counts as settled
+/// in that pocket (each is a call deeper).
+constexpr int max_pocket_hand_overs = 256;
 
 int index_of(Wall w) { return w == Wall::Left ? 0 : 1; }
 
@@ -272,7 +275,18 @@ class Run {
             start.on_face = part;
             return start;
           }
-          return collide_with_face(next);
+          // A pocket where two faces meet can pass the particle from one to the other and back
+          // without end (each collapse a call deeper: a stack overflow, found by an audit's
+          // random profiles); that many hand-overs there is the particle settled in it: rest,
+          // as in a closed funnel's wedge.
+          if (pocket_ >= max_pocket_hand_overs) {
+            end(Status::Rest, time_);
+            return {};
+          }
+          ++pocket_;
+          const FlightStart start = collide_with_face(next);
+          --pocket_;
+          return start;
         }
         // At a convex corner: the edge holds the particle if the normal force it needs is
         // positive (v^2 < a cos(angle) at the end of a face); otherwise it flies on, tangent to
@@ -456,6 +470,7 @@ class Run {
   Trajectory out_;
   FlightStart start_;  // how the current flight began
   int stalled_ = 0;    // consecutive events without an advance of time
+  int pocket_ = 0;     // nested hand-overs at a concave corner (sustained_contact)
 };
 
 }  // namespace

@@ -419,6 +419,40 @@ TEST(Profile, TheLeakHuntsProfilesKeepEveryFlightOutOfTheWalls) {
   }
 }
 
+TEST(Profile, AParticleThatSettlesInAPocketBetweenTwoFacesRestsThere) {
+  // A near-level ledge under a steep wall (a concave corner): the particle, thrown in spinning,
+  // was passed from one face to the other and back, a call deeper each time, until the stack
+  // overflowed (a segfault, found by an audit's random profiles). It rests in the pocket.
+  ProfileSpec spec;
+  spec.sides[0] = {{-0.5772448464786466, 1.9489777088834381}, {-0.5628429041779699, 0.2918354834159598},
+                   {-0.38035783704274045, 0.29112790630145347}, {-0.29741246392517323, 0.25985187701363693}};
+  spec.sides[1] = {{2.563736145168833, 1.9771886922701716}, {1.139415459659097, 0.8483977755506651},
+                   {0.39822211081030606, -0.0791776228887989}, {0.3003728972584539, -0.09043997630536547},
+                   {0.29741246392517323, -0.18387431351082056}, {0.29741246392517323, -0.25985187701363693}};
+  spec.e[0] = 0.0;
+  spec.mu[0] = 0.05;
+  spec.beta0[0] = -0.5937488841376162;
+  Params p = with_profile(spec);
+  p.radius = 0.0610221;
+  p.e = 0.0;
+  p.mu = 0.001;
+  p.beta0 = -0.31;
+  p.release_u = -2.848975565048831;
+  p.release_v = -0.8359007482006495;
+  p.release_spin = 95.94858495695192;
+  p.t_max = 30.0;
+  ASSERT_FALSE(validate(p)) << validate(p)->message();
+  const Funnel f = make_funnel(p);
+  EventLog log;
+  const Trajectory t = simulate_release(p, f, 0.0, &log);
+  EXPECT_EQ(t.status, Status::Rest);
+  EXPECT_FALSE(t.stalled);
+  // At rest in the corner's wedge: the centre a from both faces' lines, next to their meeting point.
+  const Vec2 corner = spec.sides[0][1];
+  EXPECT_LT(std::hypot(t.final_state.r.x - corner.x, t.final_state.r.y - corner.y), 2.0 * p.radius);
+  EXPECT_TRUE(audit_flights(f, release_state(p, f, 0.0), log.events).clean());
+}
+
 TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {
   ProfileSpec s;
   s.sides[0] = {{-1.0, 1.4}, {-0.4, 0.2}, {0.1, -0.3}};
