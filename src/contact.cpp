@@ -63,8 +63,13 @@ ContactResult slide_on_face(const State& start, const Face& face, double ws, con
     const double t_low = remaining > 0.0 ? first_positive_root(0.5 * ph.accel, w, -remaining)
                          : w >= 0.0      ? 0.0
                                          : first_positive_root(0.5 * ph.accel, w, 0.0);
-    // ... and the upper end of a bounded region: w t + accel t^2/2 = remaining - length.
-    const double t_high = bounded ? first_positive_root(0.5 * ph.accel, w, face.length - remaining) : never;
+    // ... and the upper end of a bounded region: w t + accel t^2/2 = remaining - length. At or
+    // past it already and moving up, done (as at the lower end): a contact that starts in the
+    // concave corner at a ledge's end and is driven into it, by a spin, slid on through the wall
+    // (found by an audit's random profiles).
+    const double t_high = !bounded                                 ? never
+                          : remaining >= face.length && w < 0.0 ? 0.0
+                                                                 : first_positive_root(0.5 * ph.accel, w, face.length - remaining);
     const double t_end = std::fmin(t_low, t_high);
     if (t_end == never && t_limit == never) {
       // No end is ever reached (only on a ledge, at rest): the contact ends here, at rest.

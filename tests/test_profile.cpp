@@ -404,6 +404,23 @@ TEST(Profile, TheLeakHuntsProfilesKeepEveryFlightOutOfTheWalls) {
     EXPECT_EQ(log.events[2].kind, EventKind::ContactEnd);
     EXPECT_EQ(log.events[3].kind, EventKind::Edge);  // back onto the corner it flew over
   }
+  {  // A ball spun into the concave corner at a level ledge's end: its ledge contact, started in
+     // the corner and driven into the wall, slid on through it (to rest 134 H behind the wall).
+     // It stays in the corner.
+    Params q = default_params();
+    q.radius = 0.1;
+    q.e = 0.0;
+    q.mu = 1.0;
+    q.beta0 = -1.0;
+    q.release_spin = 600.0;
+    ProfileSpec ledge;
+    ledge.sides[0] = {{-1.5, 1.5}, {-1.5, 0.2}, {-0.35, 0.2}, {-0.35, 0.0}};
+    ledge.sides[1] = {{1.5, 1.4}, {0.35, 0.0}};
+    EventLog log;
+    const Trajectory t = run(ledge, q, -0.5, log);
+    EXPECT_GE(t.final_state.r.x, -1.5 + q.radius * (1.0 - 1e-9));
+    for (const Event& e : log.events) EXPECT_GE(e.position.x, -1.5 + q.radius * (1.0 - 1e-9)) << e.time;
+  }
   {  // A closed funnel's convex corner is an edge: the first flight meets it (it passed through
      // the wall, and its first collision was 10 H below the funnel).
     p.e = 0.99;
