@@ -243,17 +243,13 @@ template <bool OneFace>
       }
     }
   }
-  // Fast path: a face contact is valid only on its region, and the height is concave in time,
-  // so a flight that starts above every edge arc and ends on a face whose region lies above
-  // them too stays above them: no edge can be touched and the exit (below) cannot be crossed.
-  // Below a concave lower end the region is not checked (in the funnel the face below is met
-  // first), so there the landing itself must be above them: a particle that has left the
-  // funnel could reach that face's line far below its region (an audit's silo, whose releases
-  // collided at y = -1.8 under the outlet at y = -0.5). A closed V has no edge (nor exit) at
-  // all; a closed profile's convex corners are edges as anywhere.
-  if (ev.dt != never && ((f.closed && f.one_face) ||
-                         (s.r.y > f.skip_height && hit_face->low.y >= f.skip_height &&
-                          (hit_face->low_convex || advance(s, ev.dt).r.y > f.skip_height)))) {
+  // Fast path: a face contact is valid only on its region (at a concave end too: on_region),
+  // and the height is concave in time, so a flight that starts above every edge arc and ends on
+  // a face whose region lies above them too stays above them: no edge can be touched and the
+  // exit (below) cannot be crossed. A closed V has no edge (nor exit) at all; a closed
+  // profile's convex corners are edges as anywhere.
+  if (ev.dt != never &&
+      ((f.closed && f.one_face) || (s.r.y > f.skip_height && hit_face->low.y >= f.skip_height))) {
     return ev;
   }
   const double t_exit = exit_time(f, s);

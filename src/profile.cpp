@@ -170,13 +170,11 @@ std::optional<ParamError> validate_profile(const ProfileSpec& spec, const Params
     // lower wall must not reach under it, where a ball touching that wall would be beyond the
     // vertical through the higher end (an audit's ledge over a lower end 0.001 beside it).
     // (Either way round, the lower end is er.x - el.x inside the vertical through the higher.)
-    if (el.y != er.y) {
-      if (!(er.x - el.x >= a)) {
-        return profile_error("outlet", point_text(el) + " to " + point_text(er),
-                             std::string("the lower end at least radius = ") + format_number(a) +
-                                 " inside the vertical through the higher end (horizontally), so that the lower wall "
-                                 "does not reach under the higher one");
-      }
+    if (el.y != er.y && !(er.x - el.x >= a)) {
+      return profile_error("outlet", point_text(el) + " to " + point_text(er),
+                           std::string("the lower end at least radius = ") + format_number(a) +
+                               " inside the vertical through the higher end (horizontally), so that the lower wall "
+                               "does not reach under the higher one");
     }
   }
   if (spec.bottom && !(std::fabs(*spec.bottom) <= max_coordinate)) {

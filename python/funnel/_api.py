@@ -679,8 +679,7 @@ def valid_range(name):
     """Text of a parameter's valid range, e.g. valid_range("theta") -> "0 < theta < 90 (degrees)"."""
     text = _core().valid_range(str(name))
     if not text:
-        names = [p["key"] for p in PARAMETERS] + [k for k in MODEL_PARAMETERS_3D_ONLY
-                                                   if k not in {p["key"] for p in PARAMETERS}]
+        names = dict.fromkeys([p["key"] for p in PARAMETERS] + list(MODEL_PARAMETERS_3D_ONLY))  # in order, once
         raise ValueError(f"invalid name = {name!r}: not a model parameter; valid names are {', '.join(names)}")
     return text
 
