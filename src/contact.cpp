@@ -64,12 +64,15 @@ ContactResult slide_on_face(const State& start, const Face& face, double ws, con
                          : w >= 0.0      ? 0.0
                                          : first_positive_root(0.5 * ph.accel, w, 0.0);
     // ... and the upper end of a bounded region: w t + accel t^2/2 = remaining - length. At or
-    // past it already and moving up, done (as at the lower end): a contact that starts in the
-    // concave corner at a ledge's end and is driven into it, by a spin, slid on through the wall
-    // (found by an audit's random profiles).
-    const double t_high = !bounded                                 ? never
-                          : remaining >= face.length && w < 0.0 ? 0.0
-                                                                 : first_positive_root(0.5 * ph.accel, w, face.length - remaining);
+    // past it already (by rounding) it is taken as at the end, as the lower end is: moving up,
+    // or still and driven up, done; moving down, it is back when driven up again. A contact
+    // that starts in the concave corner at a ledge's end and is driven into it by a spin slid on
+    // through the wall, moving up (found by an audit's random profiles) or moving down at
+    // 2e-9 while its past-the-end rounding (1e-16) hid the turn (the next audit's).
+    const double t_high = !bounded                          ? never
+                          : remaining < face.length         ? first_positive_root(0.5 * ph.accel, w, face.length - remaining)
+                          : w < 0.0 || (w == 0.0 && ph.accel < 0.0) ? 0.0
+                                                            : first_positive_root(0.5 * ph.accel, w, 0.0);
     const double t_end = std::fmin(t_low, t_high);
     if (t_end == never && t_limit == never) {
       // No end is ever reached (only on a ledge, at rest): the contact ends here, at rest.

@@ -63,6 +63,15 @@ constexpr int max_pocket_hand_overs = 256;
 
 int index_of(Wall w) { return w == Wall::Left ? 0 : 1; }
 
+/// The inertia factor of the closed funnel's rest test, E = (u^2 + v^2)/2 + kappa a^2 w^2/2 + y
+/// below eps_rest above the vertex: without friction on either wall the spin never exchanges
+/// energy with the centre's motion, and its energy does not count (0); else kappa. A
+/// frictionless spinning ball's bounces otherwise closed in on the vertex until rounding froze
+/// them in a cycle (10^5 collisions in 10^-4 H of time, where the vertex is not at the origin).
+double rest_inertia(const Funnel& f, double kappa) {
+  return f.sides[0].material.mu == 0.0 && f.sides[1].material.mu == 0.0 ? 0.0 : kappa;
+}
+
 /// The running trajectory: state, clock, observables and the optional log.
 class Run {
  public:
@@ -142,7 +151,7 @@ class Run {
       end(Status::Trapped, time_);
       return true;
     }
-    if (f_.closed && energy(state_, kappa_, radius_) - y_rest_ < params_.eps_rest) {
+    if (f_.closed && energy(state_, rest_kappa_, radius_) - y_rest_ < params_.eps_rest) {
       end(Status::Rest, time_);  // the energy above the bottom has run out
       return true;
     }
@@ -270,6 +279,20 @@ class Run {
         if (!c.convex) {
           // Where two faces meet: the particle runs into the neighbouring face.
           const WallPart next{part.wall, high ? part.index + 1 : part.index - 1};
+          if (std::sqrt(dot(state_.v, state_.v)) < params_.p_c) {
+            // Still in the corner (a collision with the next face would collapse at once):
+            // held there by both faces, or on along one of them.
+            const CornerExit exit = corner_contact({part.wall, high ? part.index : part.index - 1});
+            if (exit == CornerExit::Done) return {};
+            if (exit != CornerExit::Flight) {
+              part = {part.wall, high == (exit == CornerExit::Lower) ? part.index : next.index};
+              entry = state_;
+              continue;
+            }
+            FlightStart start;
+            start.on_face = part;
+            return start;
+          }
           if (!(dot(state_.v, face(next).n) < 0.0)) {
             FlightStart start;
             start.on_face = part;
@@ -329,6 +352,90 @@ class Run {
     out_.stalled = true;
     end(Status::Trapped, time_);
     return {};
+  }
+
+  enum class CornerExit { Lower, Upper, Flight, Done };
+
+  /// A particle still (speed below p_c) at a concave corner of one wall, between face `lower`
+  /// and the face above it, with spin w. Sliding on both faces (each slip is a w, the centre
+  /// being still), it is held there if the normal forces that balance gravity and the two
+  /// frictions, N_A n_A + N_B n_B - mu sgn(w) (N_A t_A + N_B t_B) = (0, 1), are both >= 0; the
+  /// frictions then stop the spin at the constant rate mu (N_A + N_B)/(kappa a). Without spin
+  /// (or friction) a particle held there rests, in a pocket. Otherwise it goes on along the face
+  /// whose normal force is positive (returned: the lower or upper face, the centre placed at the
+  /// corner, still), or flies if neither is. A spinning ball driven into such a corner was
+  /// passed from face to face in no time until the Zeno guard stopped it (the random-profile
+  /// audit's last stalls). Done: the run ended (rest, or the time cap inside the phase).
+  CornerExit corner_contact(WallPart lower) {
+    const Side& sd = side(lower.wall);
+    const Face& fa = sd.faces[lower.index];
+    const Face& fb = sd.faces[lower.index + 1];
+    const Vec2 corner_point = fa.high;
+    const State entry = state_;
+    const auto forces = [&](double sigma) {
+      const double mu_s = sigma == 0.0 ? 0.0 : sd.material.mu * sigma;
+      // Each face's force per unit normal force, n - mu sgn(w) t with t = (n_y, -n_x).
+      const Vec2 ca{fa.n.x - mu_s * fa.n.y, fa.n.y + mu_s * fa.n.x};
+      const Vec2 cb{fb.n.x - mu_s * fb.n.y, fb.n.y + mu_s * fb.n.x};
+      const double det = ca.x * cb.y - ca.y * cb.x;
+      return std::array<double, 2>{-cb.x / det, ca.x / det};
+    };
+    const double sigma = sd.material.mu == 0.0 ? 0.0 : entry.omega > 0.0 ? 1.0 : entry.omega < 0.0 ? -1.0 : 0.0;
+    std::array<double, 2> n = forces(sigma);
+    const auto held = [&] { return n[0] >= 0.0 && n[1] >= 0.0 && std::isfinite(n[0]) && std::isfinite(n[1]); };
+    state_.r = corner_point;
+    state_.v = {0.0, 0.0};
+    if (sigma != 0.0 && held()) {
+      // Held while the spin runs down.
+      ++out_.contacts;
+      if (events_ != nullptr) {
+        Event e = base_event(EventKind::ContactStart, lower.wall);
+        e.velocity_before = entry.v;
+        e.omega_before = entry.omega;
+        e.regime = Regime::Sliding;
+        events_->record(e);
+      }
+      const double mu = sd.material.mu;
+      const double duration = std::fabs(entry.omega) * kappa_ * radius_ / (mu * (n[0] + n[1]));
+      if (!(time_ + duration <= params_.t_max)) {
+        end(Status::Trapped, params_.t_max);  // the cap falls inside it (observables up to its start)
+        return CornerExit::Done;
+      }
+      const double f_a = -mu * sigma * n[0], f_b = -mu * sigma * n[1];
+      time_ += duration;
+      out_.slid = true;
+      out_.contact_time += duration;
+      out_.impulse += (std::hypot(n[0], f_a) + std::hypot(n[1], f_b)) * duration;
+      out_.normal_impulse += (n[0] + n[1]) * duration;
+      if (wear_ != nullptr) {
+        wear_->add_face_phase(lower.wall, {fa.length, 0.0, 0.0, f_a, duration}, n[0], fa.surface_offset);
+        wear_->add_face_phase(lower.wall, {0.0, 0.0, 0.0, f_b, duration}, n[1], fb.surface_offset);
+      }
+      state_.omega = 0.0;
+      const double lost = energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
+      out_.energy_loss_events += lost;
+      if (events_ != nullptr) {
+        Event e = base_event(EventKind::ContactEnd, lower.wall);
+        e.velocity_before = state_.v;
+        e.omega_before = state_.omega;
+        e.regime = Regime::Sliding;
+        e.j_n = (n[0] + n[1]) * duration;
+        e.j_t = (f_a + f_b) * duration;
+        e.energy_lost = lost;
+        events_->record(e);
+      }
+      n = forces(0.0);
+    } else {
+      // Its residual speed (below p_c) is dropped, as after a collapse.
+      out_.energy_loss_events += energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
+    }
+    if (held()) {  // without spin (or friction) now: gravity alone holds it there
+      end(Status::Rest, time_);
+      return CornerExit::Done;
+    }
+    if (n[0] > 0.0 && !(n[1] > 0.0)) return CornerExit::Lower;
+    if (n[1] > 0.0 && !(n[0] > 0.0)) return CornerExit::Upper;
+    return CornerExit::Flight;
   }
 
   /// A sustained contact with a face, from state_ (tangential) to an end of its region; returns
@@ -459,6 +566,7 @@ class Run {
   const Params& params_;
   const Funnel& f_;
   const double kappa_, radius_;
+  const double rest_kappa_ = rest_inertia(f_, kappa_);  // the rest test's (rest_inertia)
   EventSink* sink_;
   EventSink* events_;  ///< sink_ if it records events (EventSink::records), else null
   Wear* wear_;
@@ -538,7 +646,7 @@ batch::Constants batch_constants(const Params& params, const Funnel& f) {
   k.closed = f.closed ? 1.0 : 0.0;
   k.y_rest = f.closed ? f.sides[0].faces[0].low.y : 0.0;  // as Run's y_rest_ (a closed V: one face a side)
   k.eps_rest = params.eps_rest;
-  k.spin_energy = 0.5 * params.inertia * params.radius * params.radius;
+  k.spin_energy = 0.5 * rest_inertia(f, params.inertia) * params.radius * params.radius;
   return k;
 }
 
