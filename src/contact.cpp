@@ -59,10 +59,13 @@ ContactResult slide_on_face(const State& start, const Face& face, double ws, con
   const double c_cos = face.cos_a;
   auto run_phase = [&](const Phase& ph, double t_limit) {
     // First time the lower end is reached in this phase: w t + accel t^2/2 = remaining. At the
-    // end already: done if moving down; moving up (handed over by an edge), it comes back later.
-    const double t_low = remaining > 0.0 ? first_positive_root(0.5 * ph.accel, w, -remaining)
-                         : w >= 0.0      ? 0.0
-                                         : first_positive_root(0.5 * ph.accel, w, 0.0);
+    // end already: done if moving down, or still and not driven up; moving up (handed over by an
+    // edge), or still and driven up (a spin that drives a ball up the face out of a concave
+    // corner, found by a review: it ended at once, back in the corner, a thousand times), it
+    // comes back later, if at all.
+    const double t_low = remaining > 0.0                           ? first_positive_root(0.5 * ph.accel, w, -remaining)
+                         : w > 0.0 || (w == 0.0 && ph.accel >= 0.0) ? 0.0
+                                                                    : first_positive_root(0.5 * ph.accel, w, 0.0);
     // ... and the upper end of a bounded region: w t + accel t^2/2 = remaining - length. At or
     // past it already (by rounding) it is taken as at the end, as the lower end is: moving up,
     // or still and driven up, done; moving down, it is back when driven up again. A contact

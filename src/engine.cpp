@@ -282,12 +282,12 @@ class Run {
           if (std::sqrt(dot(state_.v, state_.v)) < params_.p_c) {
             // Still in the corner (a collision with the next face would collapse at once):
             // held there by both faces, or on along one of them.
-            const CornerExit exit = corner_contact({part.wall, high ? part.index : part.index - 1});
+            entry = state_;
+            const CornerExit exit = corner_contact({part.wall, high ? part.index : part.index - 1}, entry);
             if (exit == CornerExit::Done) return {};
             if (exit != CornerExit::Flight) {
               part = {part.wall, high == (exit == CornerExit::Lower) ? part.index : next.index};
-              entry = state_;
-              continue;
+              continue;  // from state_, booking the drop from `entry`
             }
             FlightStart start;
             start.on_face = part;
@@ -360,43 +360,53 @@ class Run {
   /// and the face above it, with spin w. Sliding on both faces (each slip is a w, the centre
   /// being still), it is held there if the normal forces that balance gravity and the two
   /// frictions, N_A n_A + N_B n_B - mu sgn(w) (N_A t_A + N_B t_B) = (0, 1), are both >= 0; the
-  /// frictions then stop the spin at the constant rate mu (N_A + N_B)/(kappa a). Without spin
-  /// (or friction) a particle held there rests, in a pocket. Otherwise it goes on along the face
-  /// whose normal force is positive (returned: the lower or upper face, the centre placed at the
-  /// corner, still), or flies if neither is. A spinning ball driven into such a corner was
-  /// passed from face to face in no time until the Zeno guard stopped it (the random-profile
-  /// audit's last stalls). Done: the run ended (rest, or the time cap inside the phase).
-  CornerExit corner_contact(WallPart lower) {
+  /// frictions then stop the spin at the constant rate mu (N_A + N_B)/(kappa a) (docs/model.md
+  /// §2b). Without spin (or friction) a particle held there rests, in a pocket. Otherwise it goes
+  /// on along the face that still pushes, the other's force being negative (returned: the lower
+  /// or upper face, the centre placed at the corner, still), or flies (no force is a number). A
+  /// spinning ball driven into such a corner was passed from face to face in no time until the
+  /// Zeno guard stopped it (the random-profile audit's last stalls). Done: the run ended (rest,
+  /// or the time cap inside the phase). `entry` is the state on arrival; on return, the state
+  /// from which the next contact books its start (the residual speed dropped here).
+  CornerExit corner_contact(WallPart lower, State& entry) {
     const Side& sd = side(lower.wall);
     const Face& fa = sd.faces[lower.index];
     const Face& fb = sd.faces[lower.index + 1];
-    const Vec2 corner_point = fa.high;
-    const State entry = state_;
-    const auto forces = [&](double sigma) {
-      const double mu_s = sigma == 0.0 ? 0.0 : sd.material.mu * sigma;
-      // Each face's force per unit normal force, n - mu sgn(w) t with t = (n_y, -n_x).
-      const Vec2 ca{fa.n.x - mu_s * fa.n.y, fa.n.y + mu_s * fa.n.x};
-      const Vec2 cb{fb.n.x - mu_s * fb.n.y, fb.n.y + mu_s * fb.n.x};
-      const double det = ca.x * cb.y - ca.y * cb.x;
-      return std::array<double, 2>{-cb.x / det, ca.x / det};
+    const double mu = sd.material.mu;
+    const double sigma = mu == 0.0 ? 0.0 : entry.omega > 0.0 ? 1.0 : entry.omega < 0.0 ? -1.0 : 0.0;
+    // Cramer's rule for the two normal forces. Each face pushes n - mu sgn(w) t per unit normal
+    // force (t = (n_y, -n_x)), and the system's determinant is det(n_A, n_B)(1 + mu^2); past
+    // mu = 1 numerator and determinant are divided by mu^2 (mu up to 1e308 without overflow).
+    const double det = fa.n.x * fb.n.y - fa.n.y * fb.n.x;
+    const auto forces = [&](double sgn) -> std::array<double, 2> {
+      if (sgn == 0.0) return {-fb.n.x / det, fa.n.x / det};
+      if (mu <= 1.0) {
+        const double d = det * (1.0 + mu * mu);
+        return {-(fb.n.x - mu * sgn * fb.n.y) / d, (fa.n.x - mu * sgn * fa.n.y) / d};
+      }
+      const double d = mu * det * (1.0 / (mu * mu) + 1.0);
+      return {-(fb.n.x / mu - sgn * fb.n.y) / d, (fa.n.x / mu - sgn * fa.n.y) / d};
     };
-    const double sigma = sd.material.mu == 0.0 ? 0.0 : entry.omega > 0.0 ? 1.0 : entry.omega < 0.0 ? -1.0 : 0.0;
     std::array<double, 2> n = forces(sigma);
     const auto held = [&] { return n[0] >= 0.0 && n[1] >= 0.0 && std::isfinite(n[0]) && std::isfinite(n[1]); };
-    state_.r = corner_point;
+    state_.r = fa.high;
     state_.v = {0.0, 0.0};
+    // The residual speed (below p_c) is dropped, as after a collapse.
+    const double dropped = energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
     if (sigma != 0.0 && held()) {
-      // Held while the spin runs down.
+      // Held while the spin runs down: a contact with both faces, logged on the lower one.
       ++out_.contacts;
+      out_.energy_loss_events += dropped;
       if (events_ != nullptr) {
         Event e = base_event(EventKind::ContactStart, lower.wall);
         e.velocity_before = entry.v;
         e.omega_before = entry.omega;
         e.regime = Regime::Sliding;
+        e.energy_lost = dropped;
         events_->record(e);
       }
-      const double mu = sd.material.mu;
-      const double duration = std::fabs(entry.omega) * kappa_ * radius_ / (mu * (n[0] + n[1]));
+      const double rate = mu * (n[0] + n[1]);  // of the spin, times kappa a
+      const double duration = std::fabs(entry.omega) * kappa_ * radius_ / rate;
       if (!(time_ + duration <= params_.t_max)) {
         end(Status::Trapped, params_.t_max);  // the cap falls inside it (observables up to its start)
         return CornerExit::Done;
@@ -411,8 +421,9 @@ class Run {
         wear_->add_face_phase(lower.wall, {fa.length, 0.0, 0.0, f_a, duration}, n[0], fa.surface_offset);
         wear_->add_face_phase(lower.wall, {0.0, 0.0, 0.0, f_b, duration}, n[1], fb.surface_offset);
       }
+      const State spinning = state_;
       state_.omega = 0.0;
-      const double lost = energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
+      const double lost = energy(spinning, kappa_, radius_) - energy(state_, kappa_, radius_);
       out_.energy_loss_events += lost;
       if (events_ != nullptr) {
         Event e = base_event(EventKind::ContactEnd, lower.wall);
@@ -424,17 +435,22 @@ class Run {
         e.energy_lost = lost;
         events_->record(e);
       }
+      entry = state_;
       n = forces(0.0);
-    } else {
-      // Its residual speed (below p_c) is dropped, as after a collapse.
-      out_.energy_loss_events += energy(entry, kappa_, radius_) - energy(state_, kappa_, radius_);
+      if (held()) {  // stopped, and gravity alone holds it there
+        end(Status::Rest, time_);
+        return CornerExit::Done;
+      }
+      return n[1] < 0.0 ? CornerExit::Lower : CornerExit::Upper;
     }
-    if (held()) {  // without spin (or friction) now: gravity alone holds it there
+    if (held()) {  // without spin or friction, gravity alone holds it there
+      out_.energy_loss_events += dropped;
       end(Status::Rest, time_);
       return CornerExit::Done;
     }
-    if (n[0] > 0.0 && !(n[1] > 0.0)) return CornerExit::Lower;
-    if (n[1] > 0.0 && !(n[0] > 0.0)) return CornerExit::Upper;
+    if (n[1] < 0.0) return CornerExit::Lower;  // booked by that face's contact, from `entry`
+    if (n[0] < 0.0) return CornerExit::Upper;
+    out_.energy_loss_events += dropped;
     return CornerExit::Flight;
   }
 

@@ -571,6 +571,44 @@ TEST(Profile, ABallSpunIntoACornerIsHeldThereUntilItsSpinHasRunDown) {
   EXPECT_FALSE(capped.stalled);
 }
 
+TEST(Profile, ABallSpunUpTheSteeperFaceOutOfACornerClimbsIt) {
+  // mu = 8.5 against a steep face, and a spin that drives the ball still in the corner up it: the
+  // lower face's push is negative, so it goes on up the steeper face alone. That contact, still
+  // at its lower end and driven up, ended there at once, back in the corner, 1000 times in no
+  // time, until the guard stopped the run (found by a review of the held corner). It climbs.
+  ProfileSpec spec = mirrored_profile({{-0.9482179345039432, 1.448365912978005}, {-0.6, 0.3},
+                                       {-0.3, 0.2852283371059302}, {-0.1, -0.3}});
+  spec.e[0] = spec.e[1] = 0.2;
+  spec.mu[0] = spec.mu[1] = 8.463145940994279;
+  spec.beta0[0] = spec.beta0[1] = 0.8705516139884195;
+  Params p = with_profile(spec);
+  p.radius = 0.05;
+  p.release_height = 0.8;
+  p.release_u = 0.15881984946515937;
+  p.release_v = 0.14977163629402312;
+  p.release_spin = 99.54456979589881;
+  p.t_max = 100.0;
+  ASSERT_FALSE(validate(p)) << validate(p)->message();
+  const Funnel f = make_funnel(p);
+  for (const bool mirrored : {false, true}) {
+    Params q = p;
+    if (mirrored) {
+      q.release_u = -p.release_u;
+      q.release_spin = -p.release_spin;
+    }
+    const double x = mirrored ? 0.6343194459806647 : -0.6343194459806647;
+    EventLog log;
+    const Trajectory t = simulate_release(q, f, x, &log);
+    EXPECT_FALSE(t.stalled) << mirrored;
+    EXPECT_EQ(t.status, Status::Exited) << mirrored;
+    EXPECT_TRUE(audit_flights(f, release_state(q, f, x), log.events).clean());
+    EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-9, 1e-12));
+    double booked = 0.0;
+    for (const Event& e : log.events) booked += e.energy_lost;
+    EXPECT_NEAR(booked, t.energy_loss_events, 1e-15);  // every drop booked in an event
+  }
+}
+
 TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {
   ProfileSpec s;
   s.sides[0] = {{-1.0, 1.4}, {-0.4, 0.2}, {0.1, -0.3}};
