@@ -138,7 +138,7 @@ struct Context {
   SideV left, right;
   V zero, one, minus_one, half, two, inf, skip, y_exit, t_max, p_c, max_collisions;
   V code_left, code_right, code_fresh;
-  V y_rest, eps_rest, spin_energy, window, slip_tol, height_tol;
+  V y_rest, eps_rest, vertex_tolerance, spin_energy, window, slip_tol, height_tol;
   // The watch's speed is glibc's hypot, within an ulp or two of sqrt(u^2 + v^2): a lane decides
   // the slip test only outside this relative margin (and without under- or overflow).
   V below, above, tiny, huge;
@@ -164,6 +164,7 @@ Context context(D d, const Constants& k) {
           hn::Set(d, start_fresh),
           hn::Set(d, k.y_rest),
           hn::Set(d, k.eps_rest),
+          hn::Set(d, k.vertex_tolerance),
           hn::Set(d, k.spin_energy),
           hn::Set(d, k.window),
           hn::Set(d, k.slip_tol),
@@ -344,6 +345,8 @@ HWY_INLINE M2 round(D d, const Context& c, Tracks& t) {
         add(mul(half, add(mul(new_vx, new_vx), mul(new_vy, new_vy))), mul(mul(c.spin_energy, new_omega), new_omega)),
         cy);
     common = but_not(lt(sub(e, c.y_rest), c.eps_rest), common);
+    // At the vertex to rounding the scalar engine ends the bounces (Run::at_vertex).
+    common = both(common, ge(sub(cy, c.y_rest), c.vertex_tolerance));
   }
   if (c.watch) {
     // OrbitWatch::record (src/closed.cpp) for this collision: position (cx, cy), velocity

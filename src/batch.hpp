@@ -41,7 +41,8 @@ struct Constants {
   // eps_rest of energy above y_rest is the scalar engine's (rest).
   double closed;           ///< 1 closed, 0 open
   double y_rest, eps_rest;
-  double spin_energy;      ///< 0.5 kappa a a of the rest test, as the energy is computed (energy() in walton.hpp; 0 without friction: rest_inertia)
+  double spin_energy;      ///< 0.5 kappa a a, as the energy is computed (energy() in walton.hpp)
+  double vertex_tolerance; ///< a collision less than this above y_rest is the scalar engine's (Funnel::vertex_tolerance)
   // The orbit watch of a closed funnel (funnel/watch.hpp), if `watch` is 1.
   double watch, window, slip_tol, height_tol;
 };

@@ -124,6 +124,12 @@ void finish(Funnel& f, const Params& params) {
   f.closed = f.sides[0].corners[0].bottom;
   f.one_face = f.sides[0].faces.size() == 1 && f.sides[1].faces.size() == 1;
   f.y_exit = std::min(el.y, er.y);
+  if (f.closed) {
+    const Vec2 vl = f.sides[0].faces[0].low, vr = f.sides[1].faces[0].low;
+    f.y_vertex = vl.y;
+    const double scale = std::fmax(std::fmax(std::fabs(vl.x), std::fabs(vl.y)), std::fmax(std::fabs(vr.x), std::fabs(vr.y)));
+    f.vertex_tolerance = std::ldexp(scale, -44);
+  }
   if (!f.closed && el.y != er.y) {
     // The vertical under the higher end: the lower wall's end lies at least a inside it
     // (validate_profile), so no contact with the lower wall reaches it.

@@ -789,7 +789,7 @@ TEST(Profile, ThrownAndSpinningBallsInAClosedFunnelWithConvexCornersStayOutOfIts
   // searched in closed profiles: 12 of these runs crossed a wall), and every run ends. Without
   // friction a spinning ball's bounces closed in on the vertex, which is not at the origin here,
   // until rounding froze them in a cycle: 70 of 200 such releases ran into the collision cap
-  // (docs/robustness.md; the rest test leaves out a spin that friction cannot take).
+  // (docs/robustness.md, finding 40: now the bounces end at the vertex to its rounding).
   const ProfileSpec spec = mirrored_profile({{-2.0, 1.6}, {-0.5, 0.734}, {0.0, -0.3}});
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -826,10 +826,13 @@ TEST(Profile, ThrownAndSpinningBallsInAClosedFunnelWithConvexCornersStayOutOfIts
   EXPECT_GT(rests, 1000);  // every e < 1 run comes to rest (2400 of them) before t = 50
 }
 
-TEST(Profile, WithoutFrictionASpinningBallRestsAtTheVertexAsOneThatDoesNotSpin) {
+TEST(Profile, WithoutFrictionASpinningBallComesToRestAtTheVertex) {
   // A closed V given as a profile (its vertex 0.277 H below the origin) and the V itself (vertex
-  // at the origin), e = 0.6, no friction: the spin cannot change, the centre's motion is the
-  // spinless ball's, and so is the time it comes to rest, within the energy threshold's reach.
+  // at the origin), e = 0.6, no friction: the spin cannot change and keeps energy above
+  // eps_rest, so the bounces close in on the vertex. Off the origin, rounding froze them in a
+  // cycle there (10^5 collisions in 10^-4 of time: 70 of 200 such releases ran to the cap);
+  // they now end at the vertex to the rounding of its coordinates, in a contact that rests
+  // there, within microseconds of a ball that does not spin (whose energy runs out).
   for (const bool profile : {true, false}) {
     Params p = profile ? with_profile(mirrored_profile({{-0.5, 0.734}, {0.0, -0.3}})) : default_params();
     if (!profile) {
@@ -842,6 +845,7 @@ TEST(Profile, WithoutFrictionASpinningBallRestsAtTheVertexAsOneThatDoesNotSpin) 
     p.release_u = 1.02515;
     const Funnel f = make_funnel(p);
     ASSERT_TRUE(f.closed);
+    EXPECT_EQ(f.vertex_tolerance > 0.0, profile);
     for (const double x : {0.05, 0.3, -0.4, 0.7}) {
       const Trajectory still = simulate_release(p, f, x);
       Params q = p;
@@ -849,8 +853,8 @@ TEST(Profile, WithoutFrictionASpinningBallRestsAtTheVertexAsOneThatDoesNotSpin) 
       const Trajectory spinning = simulate_release(q, f, x);
       EXPECT_EQ(still.status, Status::Rest);
       EXPECT_EQ(spinning.status, Status::Rest) << profile << " " << x << " " << spinning.collisions;
-      EXPECT_EQ(spinning.collisions, still.collisions) << profile << " " << x;
-      EXPECT_NEAR(spinning.duration, still.duration, 1e-6) << profile << " " << x;
+      EXPECT_LT(spinning.collisions, 200) << profile << " " << x;
+      EXPECT_NEAR(spinning.duration, still.duration, 1e-5) << profile << " " << x;
       EXPECT_TRUE(near(spinning.energy_loss, spinning.energy_loss_events, 1e-9, 1e-12));
     }
   }

@@ -74,6 +74,12 @@ struct Funnel {
   int side_exit = 0;
   Vec2 side_exit_end{};
   double y_bottom = 0.0;        ///< the funnel bottom: release-height is measured from it
+  /// A closed funnel: the height of the vertex (where the two lowest faces' centre lines meet,
+  /// the centre's lowest point), and how close above it a centre is at the vertex to the
+  /// rounding of its coordinates: 2^-44 of the vertex's largest coordinate (0 for a vertex at
+  /// the origin, as the V's, where the coordinates resolve a collapse to its end; 0 if open).
+  double y_vertex = 0.0;
+  double vertex_tolerance = 0.0;
   double y_release = 0.0;       ///< release height of the centre
   double x_release_mid = 0.0;   ///< middle of the release line
   double half_width = 0.0;      ///< half its length: x0 = mid + X half_width, X in (-1, 1)
