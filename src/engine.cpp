@@ -71,7 +71,6 @@ class Run {
         events_(sink != nullptr && sink->records() ? sink : nullptr), wear_(wear),
         state_(initial) {
     e0_ = energy(initial, kappa_, radius_);
-    if (f_.closed) y_rest_ = f_.y_vertex;
   }
 
   Trajectory finish() {
@@ -139,7 +138,7 @@ class Run {
       end(Status::Trapped, time_);
       return true;
     }
-    if (f_.closed && energy(state_, kappa_, radius_) - y_rest_ < params_.eps_rest) {
+    if (f_.closed && energy(state_, kappa_, radius_) - f_.y_vertex < params_.eps_rest) {
       end(Status::Rest, time_);  // the energy above the bottom has run out
       return true;
     }
@@ -233,7 +232,7 @@ class Run {
   /// cycle, 10^5 collisions in 10^-4 of time, at a vertex 0.277 H below the origin. At a vertex
   /// at the origin (the V's) the coordinates resolve the collapse to its end.
   bool at_vertex(WallPart part) const {
-    return f_.vertex_tolerance > 0.0 && part.index == 0 && state_.r.y - y_rest_ < f_.vertex_tolerance;
+    return f_.vertex_tolerance > 0.0 && part.index == 0 && state_.r.y - f_.y_vertex < f_.vertex_tolerance;
   }
 
   /// A particle at a concave corner is still there if its speed is below p_c (a collision with
@@ -276,7 +275,7 @@ class Run {
       start.on_face = lower;
       return start;
     }
-    return sustained_contact({lower.wall, exit == CornerExit::Lower ? lower.index : lower.index + 1}, false, entry);
+    return sustained_contact(face_from_corner(lower, exit), false, entry);
   }
 
   FlightStart edge_collision(WallPart part) {
@@ -325,10 +324,11 @@ class Run {
           if (still_at_corner()) {
             // Still in the corner: held there by both faces, or on along one of them.
             entry = state_;
-            const CornerExit exit = corner_contact({part.wall, high ? part.index : part.index - 1}, entry);
+            const WallPart lower{part.wall, high ? part.index : part.index - 1};
+            const CornerExit exit = corner_contact(lower, entry);
             if (exit == CornerExit::Done) return {};
             if (exit != CornerExit::Flight) {
-              part = {part.wall, high == (exit == CornerExit::Lower) ? part.index : next.index};
+              part = face_from_corner(lower, exit);
               continue;  // from state_, booking the drop from `entry`
             }
             FlightStart start;
@@ -398,6 +398,11 @@ class Run {
 
   enum class CornerExit { Lower, Upper, Flight, Done };
 
+  /// The face a particle goes on along from the corner above face `lower` (exit Lower or Upper).
+  static WallPart face_from_corner(WallPart lower, CornerExit exit) {
+    return {lower.wall, exit == CornerExit::Lower ? lower.index : lower.index + 1};
+  }
+
   /// A particle still (still_at_corner) at a concave corner of one wall, between face `lower`
   /// and the face above it, with spin w. Sliding on both faces (each slip is a w, the centre
   /// being still), it is held there if the normal forces that balance gravity and the two
@@ -439,14 +444,7 @@ class Run {
       // Held while the spin runs down: a contact with both faces, logged on the lower one.
       ++out_.contacts;
       out_.energy_loss_events += dropped;
-      if (events_ != nullptr) {
-        Event e = base_event(EventKind::ContactStart, lower.wall);
-        e.velocity_before = entry.v;
-        e.omega_before = entry.omega;
-        e.regime = Regime::Sliding;
-        e.energy_lost = dropped;
-        events_->record(e);
-      }
+      log_contact_start(EventKind::ContactStart, lower.wall, entry, Regime::Sliding, dropped);
       const double rate = mu * (n[0] + n[1]);  // of the spin, times kappa a
       const double duration = std::fabs(entry.omega) * kappa_ * radius_ / rate;
       if (!(time_ + duration <= params_.t_max)) {
@@ -468,9 +466,7 @@ class Run {
       const double lost = energy(spinning, kappa_, radius_) - energy(state_, kappa_, radius_);
       out_.energy_loss_events += lost;
       if (events_ != nullptr) {
-        Event e = base_event(EventKind::ContactEnd, lower.wall);
-        e.velocity_before = state_.v;
-        e.omega_before = state_.omega;
+        Event e = base_event(EventKind::ContactEnd, lower.wall);  // still, the spin stopped
         e.regime = Regime::Sliding;
         e.j_n = (n[0] + n[1]) * duration;
         e.j_t = (f_a + f_b) * duration;
@@ -507,14 +503,7 @@ class Run {
     out_.energy_loss_events += lost;
     const ContactResult res = slide_on_face(state_, fc, sd.ws, sd.material);
     if (res.slid) out_.slid = true;
-    if (events_ != nullptr) {
-      Event e = base_event(EventKind::ContactStart, part.wall);
-      e.velocity_before = entry.v;
-      e.omega_before = entry.omega;
-      e.regime = res.first_regime;
-      e.energy_lost = lost;
-      events_->record(e);
-    }
+    log_contact_start(EventKind::ContactStart, part.wall, entry, res.first_regime, lost);
     if (!(time_ + res.duration <= params_.t_max)) {
       // The cap falls inside the contact: stop there (observables up to its start).
       end(Status::Trapped, params_.t_max);
@@ -535,7 +524,7 @@ class Run {
     if (rest) {
       // A closed funnel's contact ends at its bottom: the particle rests there (docs/model.md §5);
       // on a ledge it stopped where it is.
-      lost_end += energy(arrived, kappa_, radius_) - (res.at_rest ? arrived.r.y : y_rest_);
+      lost_end += energy(arrived, kappa_, radius_) - (res.at_rest ? arrived.r.y : f_.y_vertex);
       state_.v = {0.0, 0.0};
       state_.omega = 0.0;
     }
@@ -574,14 +563,7 @@ class Run {
       res.end = mirror(res.end);
       res.tangential_impulse = -res.tangential_impulse;  // t = (n_y, -n_x) mirrors to -t
     }
-    if (events_ != nullptr) {
-      Event e = base_event(EventKind::EdgeContactStart, part.wall);
-      e.velocity_before = entry.v;
-      e.omega_before = entry.omega;
-      e.regime = res.first_regime;
-      e.energy_lost = lost;
-      events_->record(e);
-    }
+    log_contact_start(EventKind::EdgeContactStart, part.wall, entry, res.first_regime, lost);
     if (time_ + res.duration > params_.t_max) {
       end(Status::Trapped, params_.t_max);
       return res.exit;
@@ -617,6 +599,18 @@ class Run {
     return e;
   }
 
+  /// The start of a sustained contact (face, edge or corner), from `entry` (the state before a
+  /// residual speed was dropped, `lost`).
+  void log_contact_start(EventKind kind, Wall wall, const State& entry, Regime regime, double lost) {
+    if (events_ == nullptr) return;
+    Event e = base_event(kind, wall);
+    e.velocity_before = entry.v;
+    e.omega_before = entry.omega;
+    e.regime = regime;
+    e.energy_lost = lost;
+    events_->record(e);
+  }
+
   void log_simple(EventKind kind, std::optional<Wall> wall) {
     if (events_ != nullptr) events_->record(base_event(kind, wall));
   }
@@ -628,7 +622,6 @@ class Run {
   EventSink* events_;  ///< sink_ if it records events (EventSink::records), else null
   Wear* wear_;
   State state_;
-  double y_rest_ = 0.0;  // closed funnel: height of the bottom, where the particle rests
   double time_ = 0.0;
   double e0_ = 0.0;
   bool done_ = false;
@@ -701,7 +694,7 @@ batch::Constants batch_constants(const Params& params, const Funnel& f) {
   k.p_c = params.p_c;
   k.max_collisions = static_cast<double>(params.max_collisions);
   k.closed = f.closed ? 1.0 : 0.0;
-  k.y_rest = f.closed ? f.y_vertex : 0.0;  // as Run's y_rest_
+  k.y_rest = f.y_vertex;  // as Run's rest test
   k.vertex_tolerance = f.vertex_tolerance;
   k.eps_rest = params.eps_rest;
   k.spin_energy = 0.5 * params.inertia * params.radius * params.radius;
