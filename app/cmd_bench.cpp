@@ -170,8 +170,8 @@ void add_bench_command(CLI::App& app, const std::string& command_line) {
   cmd->command_line = command_line;
   CLI::App* sub = app.add_subcommand("bench", "Measure collisions per second on the reference ensemble and sweep.");
   sub->add_option("--threads", cmd->threads, "threads for the reference ensemble; 0 = all cores (default 1)")->type_name("T");
-  sub->add_option("--samples", cmd->samples, "samples of the reference ensemble (default 400000)")->type_name("N");
-  sub->add_option("--repeat", cmd->repeat, "runs per measurement; the median is reported (default 5)")->type_name("R");
+  sub->add_option("--samples", cmd->samples, "samples of the reference ensemble; integer 1 to 10^9 (default 400000)")->type_name("N");
+  sub->add_option("--repeat", cmd->repeat, "runs per measurement, the median reported; integer 1 to 1000 (default 5)")->type_name("R");
   sub->add_option("--format", cmd->format, "text or json (default text)")->type_name("FMT");
   sub->add_option("--simd", cmd->simd,
                   "engine paths to compare on the reference ensemble: all, or a comma-separated list of scalar, sse4, "

@@ -139,7 +139,7 @@ void add_closed_command(CLI::App& app, const std::string& command_line) {
                     "uniform (x0/L uniform random), gaussian (x0/L normal, mean --release, sd --release-sd, truncated "
                     "to (-1, 1)); default line");
   sub->add_option("--window", cmd->window,
-                  "consecutive collisions that must pass the periodic test; integer >= 1 (default 20)")->type_name("K");
+                  "consecutive collisions that must pass the periodic test; integer 1 to 10^6 (default 20)")->type_name("K");
   sub->add_option("--slip-tol", cmd->slip_tol, "periodic test: |slip before| <= tol * speed; > 0 (default 1e-6)")->type_name("TOL");
   sub->add_option("--height-tol", cmd->height_tol,
                   "periodic test: |y_k - y_(k-1)| <= tol * |y_k| (y_(k-2) in a funnel that is not mirror symmetric); > 0 "

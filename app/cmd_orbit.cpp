@@ -31,7 +31,7 @@ struct OrbitCommand {
   void run() const {
     for (const auto& [name, text] : model.given) {
       if (!orbit_parameter(name)) {
-        throw UsageError("invalid option --" + name + " for funnel orbit: the orbit depends on theta, beta0, inertia, radius only (e = 1, sticking)");
+        throw UsageError("invalid option --" + name + " = '" + text + "' for funnel orbit: the orbit depends on theta, beta0, inertia, radius only (e = 1, sticking)");
       }
     }
     const auto ys = parse_number(y_star);

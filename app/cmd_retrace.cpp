@@ -119,7 +119,7 @@ void add_retrace_command(CLI::App& app, const std::string& command_line) {
   sub->add_option("--theta", cmd->theta,
                   "wall angle(s), degrees; a number, a list a,b,c or a range start:stop:step; 0 < theta < 90 (default 60)")
       ->type_name("LIST");
-  sub->add_option("--radius", cmd->radius, "particle radius a / H; 0 < a < 1 (default 0.01)")->type_name("NUM");
+  sub->add_option("--radius", cmd->radius, "particle radius a / H; 1e-100 <= a < 1 (default 0.01)")->type_name("NUM");
   sub->add_option("--gap", cmd->gap,
                   "gap d / H: 0 = closed funnel (default); d > 2a keeps the orbits that stay above the faces' ends")
       ->type_name("NUM");
@@ -131,7 +131,8 @@ void add_retrace_command(CLI::App& app, const std::string& command_line) {
                   "release grid points on x0/L in (-1, 0) before refinement; 16 <= N <= 10^6 (default 1000)")
       ->type_name("N");
   sub->add_option("--turns", cmd->turns,
-                  "which turns: wall (a perpendicular hit, default) or wall,rest (also a vertical rise to a second rest point)")
+                  "which turns: wall (a perpendicular hit, default), or wall,rest (also a vertical rise to a second rest point; all "
+                  "is the same)")
       ->type_name("TURNS");
   sub->add_option("--threads", cmd->threads, "worker threads over the angles; integer 1 to 1024, or 0 = all cores (default 0)")
       ->type_name("T");

@@ -45,6 +45,9 @@ std::string parent_of(const std::string& path) {
   return path.substr(0, slash);
 }
 
+/// What `--out` accepts, said after each refusal of a path.
+constexpr const char* valid_out = "; valid values are a file path in an existing, writable directory, or - for standard output";
+
 /// "'out.csv'", or "'link.csv' (a link to 'data/out.csv')" when the target differs.
 std::string describe(const std::string& path, const std::string& target) {
   std::string s = "'" + path + "'";
@@ -56,10 +59,10 @@ void check_directory(const std::string& path, const std::string& target) {
   const std::string dir = parent_of(target);
   struct stat st {};
   if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
-    throw UsageError("invalid out = " + describe(path, target) + ": directory '" + dir + "' does not exist");
+    throw UsageError("invalid out = " + describe(path, target) + ": directory '" + dir + "' does not exist" + valid_out);
   }
   if (access(dir.c_str(), W_OK) != 0) {
-    throw UsageError("invalid out = " + describe(path, target) + ": directory '" + dir + "' is not writable");
+    throw UsageError("invalid out = " + describe(path, target) + ": directory '" + dir + "' is not writable" + valid_out);
   }
 }
 
@@ -165,16 +168,16 @@ OutputTarget resolve_output(const std::string& path, std::size_t side_suffix) {
       cur = (link.front() == '/' || parent_of(cur) == ".") ? link : parent_of(cur) + "/" + link;
       continue;
     }
-    if (S_ISDIR(st.st_mode)) throw UsageError("invalid out = " + describe(path, cur) + ": is a directory");
+    if (S_ISDIR(st.st_mode)) throw UsageError("invalid out = " + describe(path, cur) + ": is a directory" + valid_out);
     if (S_ISREG(st.st_mode)) {
       check_directory(path, cur);
-      if (access(cur.c_str(), W_OK) != 0) throw UsageError("invalid out = " + describe(path, cur) + ": is not writable");
+      if (access(cur.c_str(), W_OK) != 0) throw UsageError("invalid out = " + describe(path, cur) + ": is not writable" + valid_out);
       check_name_length(path, cur, side_suffix);
       t.path = cur;
       return t;
     }
     // A device, FIFO or socket: written through, never replaced.
-    if (access(cur.c_str(), W_OK) != 0) throw UsageError("invalid out = " + describe(path, cur) + ": is not writable");
+    if (access(cur.c_str(), W_OK) != 0) throw UsageError("invalid out = " + describe(path, cur) + ": is not writable" + valid_out);
     t.kind = OutputTarget::Kind::Stream;
     t.path = cur;
     return t;

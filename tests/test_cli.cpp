@@ -178,7 +178,7 @@ TEST_F(Cli, OrbitReportsEigenvaluesStabilityAndJacobianAgreement) {
                           "\"jacobian_max_rel_diff\""}) {
     EXPECT_NE(read("o.json").find(key), std::string::npos) << key;
   }
-  expect_rejected(run("orbit --theta 60 --e 0.5 --out " + path("x.json")), "e", "orbit");
+  expect_rejected(run("orbit --theta 60 --e 0.5 --out " + path("x.json")), "--e = '0.5'", "orbit");
   expect_rejected(run("orbit --theta 60 --y-star -1 --out " + path("x.json")), "y-star", "-1");
   // The orbit does not depend on the funnel's gap: a radius above half the default gap (0.04) is
   // the orbit theory's like any other (it was refused, naming the gap the command does not take).

@@ -88,7 +88,11 @@ TEST_F(Cli, OutThroughASymlinkReplacesItsTargetAndKeepsTheLinkAndTheMode) {
   EXPECT_TRUE(fs::is_symlink(path("dangling.json")));
   EXPECT_NE(read("data/new.json").find("\"duration\""), std::string::npos);
   fs::create_symlink("nowhere/x.json", path("broken.json"));
-  expect_rejected(run("trajectory --release 0.3 --out " + path("broken.json")), "broken.json", "does not exist");
+  const Result broken = run("trajectory --release 0.3 --out " + path("broken.json"));
+  expect_rejected(broken, "broken.json", "does not exist");
+  // Each refusal of a path says what --out takes.
+  EXPECT_NE(broken.output.find("valid values are a file path in an existing, writable directory, or -"),
+            std::string::npos) << broken.output;
   EXPECT_TRUE(fs::is_symlink(path("broken.json")));
 }
 
@@ -129,7 +133,8 @@ TEST_F(Cli, ASideFileOrAFiguresFileInTheWayIsRefusedBeforeAnyWork) {
   // A directory where a sweep's provenance (FILE.json) goes: refused at once, without the CSV or
   // a partial file (it was found only after every point had been computed, leaving both).
   fs::create_directories(path("s.csv.json"));
-  expect_rejected(run("sweep --theta 30:60:1 --samples 100 --out " + path("s.csv")), "s.csv.json", "is a directory");
+  expect_rejected(run("sweep --theta 30:60:1 --samples 100 --out " + path("s.csv")), "s.csv.json",
+                  "is a directory; valid values are a file path");
   EXPECT_FALSE(fs::exists(path("s.csv")));
   EXPECT_FALSE(fs::exists(path("s.csv.partial")));
   // The same for a figure's data file: no figure's data is written.

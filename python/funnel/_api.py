@@ -99,8 +99,8 @@ def _check_names(function, model, space="2d"):
     names = MODEL_PARAMETERS + (MODEL_PARAMETERS_3D_ONLY if space == "3d" else ())
     for name in model:
         if name in MODEL_PARAMETERS_3D_ONLY and space != "3d":
-            raise ValueError(f"invalid {name.replace('_', '-')} = {model[name]!r}: {name} is a 3D option; "
-                             "use space=\"3d\"")
+            raise ValueError(f"invalid {name.replace('_', '-')} = {model[name]!r}: {name} is a 3D option, "
+                             "taken only with space=\"3d\"")
         if name not in names:
             raise TypeError(f"{function}() got an unexpected keyword argument '{name}' "
                             f"(model parameters: {', '.join(names)})")

@@ -22,19 +22,22 @@ class OneLineParser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\nRun '{self.prog} --help' for its options.\n")
 
 
+VALID_OUT = "valid values are a file path in an existing, writable directory"
+
+
 def check_output(out, what="out"):
     """Raises ValueError, before any work, if ``out`` cannot be written: a directory, or a path
     whose directory is missing or not writable (the command line's rules, docs/cli.md)."""
     out = Path(out)
     if out.is_dir():
-        raise ValueError(f"invalid {what} = '{out}': is a directory")
+        raise ValueError(f"invalid {what} = '{out}': is a directory; {VALID_OUT}")
     parent = out.parent if str(out.parent) else Path(".")
     if not parent.is_dir():
-        raise ValueError(f"invalid {what} = '{out}': directory '{parent}' does not exist")
+        raise ValueError(f"invalid {what} = '{out}': directory '{parent}' does not exist; {VALID_OUT}")
     if not os.access(parent, os.W_OK):
-        raise ValueError(f"invalid {what} = '{out}': directory '{parent}' is not writable")
+        raise ValueError(f"invalid {what} = '{out}': directory '{parent}' is not writable; {VALID_OUT}")
     if out.exists() and not os.access(out, os.W_OK):
-        raise ValueError(f"invalid {what} = '{out}': is not writable")
+        raise ValueError(f"invalid {what} = '{out}': is not writable; {VALID_OUT}")
 
 
 @contextlib.contextmanager

@@ -205,7 +205,7 @@ def test_a_failed_save_removes_its_temporary(tmp_path):
             raise RuntimeError("interrupted while writing")
     plt.close(fig)
     assert list(tmp_path.iterdir()) == []
-    with pytest.raises(ValueError, match="is a directory"):
+    with pytest.raises(ValueError, match="is a directory; valid values are a file path"):
         with replacing(tmp_path):
             pass
 
