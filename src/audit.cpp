@@ -62,8 +62,11 @@ double edge_conditioning(const State& s, double duration, Vec2 e, double a) {
 /// the perpendicular lies on the face's region. Both the distance to the line and the position
 /// along the face are concave (or linear) in time, so the extremes lie at the ends of the part of
 /// the flight that is over the region: the ends of the flight or where the position along the
-/// face crosses the region's ends.
-double face_depth(const Face& face, const State& s, double duration, double radius) {
+/// face crosses the region's ends. A flight that ends by passing under a higher lower end
+/// (`side_exit`, from the funnel) ends on the vertical through that end, below it: outside the
+/// funnel, where a level lowest face's region ends (its C* is above the end), so a point on or
+/// beyond that vertical, below the end, is not in any wall and is not counted.
+double face_depth(const Face& face, const State& s, double duration, double radius, const Funnel* side_exit = nullptr) {
   std::array<double, 6> times{0.0, duration, -1.0, -1.0, -1.0, -1.0};
   // along(t) = c0 + c1 t + c2 t^2, with c2 = -up_y / 2
   const double c1 = dot(face.up, s.v);
@@ -90,6 +93,10 @@ double face_depth(const Face& face, const State& s, double duration, double radi
     const Vec2 r = advance(s, t).r;
     const double along = along_face(face, r);
     if (along < -slack || along > face.length + slack) continue;
+    if (side_exit != nullptr && side_exit->side_exit * (r.x - side_exit->side_exit_end.x) >= -slack &&
+        r.y < side_exit->side_exit_end.y) {
+      continue;
+    }
     depth = std::max(depth, -face_distance(face, r));
   }
   return depth;
@@ -133,8 +140,10 @@ FlightAudit audit_flights(const Funnel& f, const State& initial, const std::vect
           audit.min_edge_distance = std::min(audit.min_edge_distance, dist);
           if (dist < 1.0 - std::fmax(tol, edge_conditioning(s, duration, c.point, a))) ++audit.edge_overlaps;
         }
+        // An exit that is not through the exit level is under a higher lower end.
+        const bool side_exit = e.kind == EventKind::Exit && f.side_exit != 0 && e.position.y > f.y_exit;
         for (const Face& face : side.faces) {
-          const double depth = face_depth(face, s, duration, a) / a;
+          const double depth = face_depth(face, s, duration, a, side_exit ? &f : nullptr) / a;
           audit.max_face_depth = std::max(audit.max_face_depth, depth);
           if (depth > tol) ++audit.face_crossings;
         }

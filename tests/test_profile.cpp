@@ -370,6 +370,55 @@ TEST(Profile, ABallThatPassesUnderTheHigherEndSidewaysExitsThere) {
   EXPECT_EQ(simulate_release(q, m, -0.16).exit_state.r.x, -0.3);
 }
 
+TEST(Profile, TheAuditTakesAnExitUnderALedgesEndAsOutsideTheFunnelAndStillFindsAFlightThroughTheLedge) {
+  // The higher wall ends in a level ledge, so its lowest face's region ends at C* right above the
+  // end, on the vertical where a ball that passes under the end exits. At that exit the centre is
+  // on the region's end, far below the ledge's centre line: outside the funnel, not in the wall.
+  // The audit counted it as a flight 400 a behind the face (36 runs of the random-profile
+  // campaign's first 6 000; tests/test_random_profile.cpp found it).
+  ProfileSpec s;
+  s.sides[0] = {{-1.2986390158694234, 2.9569828545963026}, {-0.6966272246849281, -0.5894151590943971},
+                {-0.5417077081653728, -0.6268550714778653}, {-0.4777327358921819, -0.6668492048158761},
+                {-0.008368473302169631, -0.6828873350171216}};
+  s.sides[1] = {{0.03634883797929206, 2.9217544278797747}, {0.03634883797929206, 0.6833578954791313},
+                {0.03152462548537287, 0.6828873350171216}, {0.008368473302169631, 0.6828873350171216}};
+  Params p = with_profile(s);
+  p.e = 0.2324529783198364;
+  p.mu = 0.05;
+  p.beta0 = -0.31;
+  p.radius = 0.002887457030437758;
+  p.release_height = 1.0584600844178138;
+  p.release_u = -0.28358927379897114;
+  p.release_v = -2.542508864680087;
+  p.release_spin = 5.295881486389135;
+  ASSERT_FALSE(validate(p));
+  const Funnel f = make_funnel(p);
+  ASSERT_EQ(f.side_exit, 1);
+  const Face& ledge = f.sides[1].faces[0];
+  ASSERT_EQ(ledge.n.y, 1.0);  // level
+  ASSERT_EQ(ledge.low.x, f.side_exit_end.x);
+  EventLog log;
+  const double x = -0.49504404039976746;
+  const Trajectory t = simulate_release(p, f, x, &log);
+  ASSERT_EQ(t.status, Status::Exited);
+  EXPECT_EQ(t.exit_state.r.x, f.side_exit_end.x);
+  EXPECT_LT(t.exit_state.r.y, ledge.low.y - 400.0 * p.radius);
+  const FlightAudit audit = audit_flights(f, release_state(p, f, x), log.events);
+  EXPECT_TRUE(audit.clean()) << audit.max_face_depth;
+  EXPECT_LT(audit.max_face_depth, 1e-9);  // 400 before
+  // A flight that does go through the ledge, down from above it onto the exit level beside the
+  // end's vertical (a made-up event log), is still found behind the face.
+  const State above{{0.02, 0.8}, {0.0, 0.0}, 0.0};
+  Event through;
+  through.kind = EventKind::Exit;
+  through.time = std::sqrt(2.0 * (above.r.y - f.y_exit));
+  through.position = {0.02, f.y_exit};
+  through.velocity_before = through.velocity_after = {0.0, -through.time};
+  const FlightAudit bad = audit_flights(f, above, {through});
+  EXPECT_GT(bad.face_crossings, 0);
+  EXPECT_GT(bad.max_face_depth, 1.0);
+}
+
 TEST(Profile, TheLeakHuntsProfilesKeepEveryFlightOutOfTheWalls) {
   // Three leaks an independent random-profile audit found (2026-11-28), each at its own input.
   auto run = [](const ProfileSpec& spec, Params p, double x, EventLog& log) {
