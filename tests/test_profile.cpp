@@ -725,6 +725,71 @@ TEST(Profile, ABallThatBouncesIntoACornerSlowlyIsStillThere) {
   EXPECT_TRUE(audit_flights(fv, release_state(r, fv, -0.9027117256026771), vlog.events).clean());
 }
 
+TEST(Profile, ASuperballsCollisionsThatPileUpInACornerInNoTimeAreACollapseIntoIt) {
+  // A "superball" (beta0 = 1 with mu = 100: each collision sticks and reverses the slip) thrown
+  // into a concave corner bounces between its two faces ever faster, losing about 1% of its
+  // speed and spin at each collision. The collisions pile up at one instant; the Zeno guard
+  // stopped the run after 1 000 of them, the ball still at 0.03 (stalled; the random-profile
+  // campaign, seed 1, case 26681). They are a collapse into the corner: about 1 100 of them in
+  // no time leave the ball still there, and the corner takes over (docs/model.md §2b).
+  ProfileSpec spec;
+  spec.sides[0] = {{-0.46359658089957767, 1.8859110945062465}, {-0.46359658089957767, 1.8284295144077178},
+                   {-0.42119692523356855, 1.644067820077805},  {-0.4211119352991903, 1.6417493834739991},
+                   {-0.41892326612255526, 1.6417493834739991}, {-0.4184566698195396, 1.6417491610557375},
+                   {-0.4136499442868805, 1.640181626096741},   {-0.37784441418475023, 1.640181626096741},
+                   {-0.3749321685037597, 1.6399865784645993},  {-0.3504953262887938, 1.4212398206428232},
+                   {-0.005124628380021006, 1.0096239136272485e-06}, {-0.003450094321015282, 1.0096239136272485e-06},
+                   {-0.0019960610522254483, 0.0}};
+  spec.sides[1] = {{0.1853260307644848, 1.8125748479300696},  {0.09393084483787033, 1.7181210486653604},
+                   {0.09393084483787033, 0.20520288944524764}, {0.07539585802002415, 0.19690137930798382},
+                   {0.07074407882872216, 0.15298199250491473}, {0.06146906057041181, 0.13897299318368705},
+                   {0.05820927644970133, 0.13837382189457298}, {0.05820927644970133, 0.11807675725419013},
+                   {0.02585139490568602, 0.01676561726616102}, {0.024163981679610997, 0.013782817457091171},
+                   {0.02232966345637899, 0.011430507406610415}, {0.02108808880381028, 0.010770413005069146},
+                   {0.0019960610522254483, 0.0}};
+  Params p = with_profile(spec);
+  p.e = 0.5825093096502008;
+  p.mu = 100.0;
+  p.beta0 = 1.0;
+  p.radius = 0.0012331316727908924;
+  p.inertia = 2.0 / 3.0;
+  p.release_height = 0.5737769135699876;
+  p.release_u = -1.624159441724749;
+  p.release_v = 0.4008805404331426;
+  p.t_max = 30.0;
+  ASSERT_FALSE(validate(p)) << validate(p)->message();
+  const Funnel f = make_funnel(p);
+  EventLog log;
+  const Trajectory t = simulate_release(p, f, 0.0, &log);
+  EXPECT_FALSE(t.stalled);
+  EXPECT_EQ(t.status, Status::Exited);
+  EXPECT_TRUE(audit_flights(f, release_state(p, f, 0.0), log.events).clean());
+  EXPECT_TRUE(near(t.energy_loss, t.energy_loss_events, 1e-9, 1e-12));
+  // The longest run of events at one instant: collisions at the corner (a from both faces),
+  // more than the Zeno guard's 1 000, each losing energy, and then the ball still there.
+  std::size_t first = 0, length = 0;
+  for (std::size_t i = 0; i < log.events.size();) {
+    std::size_t j = i;
+    while (j + 1 < log.events.size() && log.events[j + 1].time == log.events[i].time) ++j;
+    if (j - i + 1 > length) {
+      first = i;
+      length = j - i + 1;
+    }
+    i = j + 1;
+  }
+  ASSERT_GT(length, static_cast<std::size_t>(max_stalled_events));
+  const Vec2 corner = spec.sides[1][10];
+  for (std::size_t i = first; i + 1 < first + length; ++i) {
+    const Event& e = log.events[i];
+    ASSERT_EQ(e.kind, EventKind::Face) << i;
+    EXPECT_NEAR(std::hypot(e.position.x - corner.x, e.position.y - corner.y), 0.0, 3.0 * p.radius);
+    EXPECT_GT(e.energy_lost, 0.0) << i;
+  }
+  const Event& last = log.events[first + length - 2];  // the last collision of the collapse
+  EXPECT_LT(std::hypot(last.velocity_after.x, last.velocity_after.y), std::sqrt(2e-9 * p.radius));
+  EXPECT_EQ(log.events[first + length - 1].kind, EventKind::ContactStart);  // the corner takes over
+}
+
 TEST(Profile, AClosedWedgeOfAnyShapeBringsTheParticleToRest) {
   ProfileSpec s;
   s.sides[0] = {{-1.0, 1.4}, {-0.4, 0.2}, {0.1, -0.3}};
