@@ -276,7 +276,7 @@ class Run {
   /// no time, each losing energy, are a collapse into the corner: a "superball" (beta0 = 1 and
   /// a large mu, so that each collision sticks and reverses the slip) loses only about 1% of its
   /// speed and spin at each, and the Zeno guard stopped it after 1 000 of them, still at 0.03
-  /// (the random-profile campaign, tests/test_random_profile.cpp); about 1 500 more leave it
+  /// (the random-profile campaign, tests/test_random_profile.cpp); about 1 100 in all leave it
   /// still there (slow_at_corner).
   int concave_corner_at(WallPart part) const {
     const double tol = 1e-9 * radius_;

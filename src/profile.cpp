@@ -12,8 +12,6 @@
 
 namespace funnel {
 
-namespace {
-
 /// Distance from p to the segment [a, b].
 double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 d = b - a;
@@ -22,6 +20,8 @@ double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 q = p - (a + t * d);
   return std::hypot(q.x, q.y);
 }
+
+namespace {
 
 /// The smallest distance between the two walls, each with its top segment continued upward
 /// (docs/model.md §2b) as far as `reach` above the highest vertex; that between two polylines

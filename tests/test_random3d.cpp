@@ -34,15 +34,8 @@
 namespace funnel {
 namespace {
 
-std::int64_t env_integer(const char* name, std::int64_t fallback) {
-  const char* v = std::getenv(name);
-  return v != nullptr && *v != '\0' ? std::strtoll(v, nullptr, 10) : fallback;
-}
-
-double env_double(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v != nullptr && *v != '\0' ? std::strtod(v, nullptr) : fallback;
-}
+using test::env_double;
+using test::env_integer;
 
 /// One random case: the parameters, the release fraction and the angle of the turned copy.
 struct Case {

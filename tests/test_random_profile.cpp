@@ -33,14 +33,12 @@
 #include "funnel/params.hpp"
 #include "funnel/random.hpp"
 #include "funnel/walton.hpp"
+#include "test_util.hpp"
 
 namespace funnel {
 namespace {
 
-std::int64_t env_integer(const char* name, std::int64_t fallback) {
-  const char* v = std::getenv(name);
-  return v != nullptr && *v != '\0' ? std::strtoll(v, nullptr, 10) : fallback;
-}
+using test::env_integer;
 
 /// One random case: a funnel (its profile in p) and the releases run in it.
 struct Case {
@@ -234,15 +232,6 @@ std::string rerun(const Params& q, double x) {
     if (info.get(q) != info.get(defaults)) cmd += " --" + name + " " + format_number(info.get(q));
   }
   return toml + cmd + " --release " + format_number(x);
-}
-
-/// The distance from point r to the segment from u to v.
-double segment_distance(Vec2 r, Vec2 u, Vec2 v) {
-  const double dx = v.x - u.x, dy = v.y - u.y;
-  const double l2 = dx * dx + dy * dy;
-  double s = l2 > 0.0 ? ((r.x - u.x) * dx + (r.y - u.y) * dy) / l2 : 0.0;
-  s = std::clamp(s, 0.0, 1.0);
-  return std::hypot(r.x - u.x - s * dx, r.y - u.y - s * dy);
 }
 
 /// The distance from point r to the nearest wall surface of the profile.

@@ -5,12 +5,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 
 #include "funnel/cone.hpp"
 #include "funnel/engine.hpp"
 #include "same_bits.hpp"
 
 namespace funnel::test {
+
+/// An integer or a number from the environment variable `name`, or `fallback` when it is unset
+/// or empty (the random campaigns' case counts and seeds).
+inline std::int64_t env_integer(const char* name, std::int64_t fallback) {
+  const char* v = std::getenv(name);
+  return v != nullptr && *v != '\0' ? std::strtoll(v, nullptr, 10) : fallback;
+}
+
+inline double env_double(const char* name, double fallback) {
+  const char* v = std::getenv(name);
+  return v != nullptr && *v != '\0' ? std::strtod(v, nullptr) : fallback;
+}
 
 /// |a - b| <= rel * max(|a|, |b|) + abs: the one tolerance check of the suite.
 inline ::testing::AssertionResult near(double a, double b, double rel, double abs = 0.0) {

@@ -130,8 +130,8 @@ Trajectory simulate_release(const Params& params, const Geometry& g, double frac
 inline constexpr int max_stalled_events = 1000;
 
 /// At a concave corner of one wall, collisions without any advance of time whose kinetic energy
-/// (with the spin's) falls at each one are a collapse into the corner, not a Zeno loop: they go on
-/// past max_stalled_events, up to this many in a row (docs/model.md §2b).
+/// (with the spin's) falls at each one are a collapse into the corner, not a Zeno loop: they do
+/// not count towards max_stalled_events, up to this many in a row (docs/model.md §3).
 inline constexpr int max_corner_pile_up = 1000000;
 
 }  // namespace funnel

@@ -106,6 +106,9 @@ std::vector<Vec2> wall_surface(const Funnel& f, int side, double y_top);
 /// corner, whichever is higher.
 double drawing_top(const Funnel& f);
 
+/// Distance from p to the segment [a, b].
+double segment_distance(Vec2 p, Vec2 a, Vec2 b);
+
 /// A symmetric profile: `left` as given and its mirror image x -> -x as the right side.
 ProfileSpec mirrored_profile(std::vector<Vec2> left);
 
